@@ -1,0 +1,59 @@
+#pragma once
+// The penetration back ends and how to make them. Each is built once per part and shared
+// read-only; each fingertip carries its own QueryState.
+#include <atomic>
+#include <functional>
+#include <future>
+#include <memory>
+#include <string_view>
+
+#include "hapticgrasp/geometry/part_model.hpp"
+#include "hapticgrasp/geometry/penetration.hpp"
+
+namespace hg::geometry {
+
+using PenetrationModelPtr = std::shared_ptr<const PenetrationModel>;
+
+enum class Backend { Reference, Exact, Mesh, Field, Analytic, Auto };
+std::string_view toString(Backend backend);
+Backend parseBackend(std::string_view name);  // throws GeometryError
+
+// OCCT's BRepExtrema on the shells + BRepClass3d classifier: the truth, slow, allocates.
+PenetrationModelPtr makeReferencePenetration(PartModelPtr part);
+// Per-feature projection over a BVH with warm starts: exact and real-time safe.
+PenetrationModelPtr makeExactPenetration(PartModelPtr part);
+// Tessellation + Embree closest-point queries; error <= about the deflection.
+PenetrationModelPtr makeMeshPenetration(PartModelPtr part, double deflection_m);
+// Closed form for a part recognised as a cylinder, box or sphere; throws GeometryError
+// if part->primitive() is None.
+PenetrationModelPtr makeAnalyticPenetration(PartModelPtr part);
+
+// An OpenVDB signed distance field takes seconds to minutes and much memory at fine voxel
+// sizes: it is built on its own thread, reports progress and can be cancelled.
+class FieldBuild {
+ public:
+  FieldBuild(PartModelPtr part, double voxel_m);
+  ~FieldBuild();  // cancels and joins
+  FieldBuild(const FieldBuild&) = delete;
+  FieldBuild& operator=(const FieldBuild&) = delete;
+
+  double progress() const { return progress_.load(); }  // 0..1
+  void cancel() { cancelled_.store(true); }
+  bool ready() const;
+  // The field, once built; rethrows the build's GeometryError (or "cancelled").
+  PenetrationModelPtr get();
+
+ private:
+  std::atomic<double> progress_{0.0};
+  std::atomic<bool> cancelled_{false};
+  std::future<PenetrationModelPtr> result_;
+};
+// Convenience: build on a worker and wait.
+PenetrationModelPtr makeFieldPenetration(PartModelPtr part, double voxel_m);
+
+// Analytic where the part is a recognised primitive, exact otherwise: model only what
+// the scene requires.
+PenetrationModelPtr makePenetration(PartModelPtr part, Backend backend = Backend::Auto,
+                                   double setting_m = 0);
+
+}  // namespace hg::geometry

@@ -1,0 +1,70 @@
+#pragma once
+// Penetration of a fingertip into a part: P_o(x) of the first paper's eqs 4-5, with what a
+// contact law and a god-object proxy need besides. One interface, several back ends that
+// trade speed for accuracy (reference, exact, mesh, field, analytic).
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "hapticgrasp/math/types.hpp"
+
+namespace hg::geometry {
+
+// The kind of B-rep feature the foot point lies on.
+enum class Feature : std::uint8_t { None, Face, Edge, Vertex };
+const char* toString(Feature feature);
+
+// One answer for a point x in the part's frame (metres).
+struct Penetration {
+  bool inside = false;         // x lies inside the solid
+  double depth = 0;            // signed distance to the surface: > 0 inside, < 0 outside
+  Vec3 vector = Vec3::Zero();  // p = x - foot; inside, the reaction force acts along -p
+  Vec3 foot = Vec3::Zero();    // closest point of the surface
+  Vec3 normal = Vec3::Zero();  // outward unit normal at the foot
+  Feature feature = Feature::None;
+  int featureIndex = 0;        // 1-based index into the part's faces/edges/vertices; 0 = none
+  double distance() const { return depth < 0 ? -depth : depth; }
+};
+
+// Small mutable state of one fingertip, kept by the caller from tick to tick: the warm
+// start of the next query and the feature tracked while in contact. Plain data, no heap.
+struct QueryState {
+  Feature feature = Feature::None;  // closest feature last tick
+  int index = 0;
+  double u = 0, v = 0;              // its parameters (face: u, v; edge: u)
+  Feature tracked = Feature::None;  // feature held while in contact (hysteresis)
+  int trackedIndex = 0;
+  double tu = 0, tv = 0;
+  void reset() { *this = QueryState{}; }
+};
+
+class PenetrationModel {
+ public:
+  virtual ~PenetrationModel() = default;
+
+  // Short back-end name ("exact", "mesh"...) and its accuracy setting ("deflection 0.01 mm").
+  virtual std::string_view name() const noexcept = 0;
+  virtual std::string setting() const = 0;
+  // Bytes held by this back end's own data (not the shared PartModel).
+  virtual std::size_t memoryBytes() const noexcept = 0;
+  // Whether query() may run on the servo thread: no heap allocation, no lock, no throw.
+  virtual bool realTimeSafe() const noexcept { return true; }
+
+  // The closest surface point to x and the sign, from scratch or warm-started by `state`.
+  virtual Penetration query(const Vec3& x, QueryState& state) const noexcept = 0;
+
+  // Contact tracking: while x stays inside, keep answering with the feature it entered
+  // through, unless another feature is closer by more than `hysteresis_m`. On a medial
+  // axis (a cylinder rim's bisector, a hole's axis) the raw closest point jumps between
+  // equally valid feet; a haptic force must not flip with it.
+  Penetration track(const Vec3& x, QueryState& state, double hysteresis_m) const noexcept;
+
+ protected:
+  // x measured against one feature only: false when x does not project into it (or the
+  // back end names no stable features). out.inside is set by the caller.
+  virtual bool queryFeature(const Vec3& x, Feature feature, int index, double& u, double& v,
+                            Penetration& out) const noexcept;
+};
+
+}  // namespace hg::geometry
