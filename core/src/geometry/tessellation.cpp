@@ -78,7 +78,7 @@ Tessellation tessellate(const PartModel& part, double deflection_m, double angul
   const TopTools_IndexedMapOfShape& faces = part.faces();
   for (int f = 1; f <= faces.Extent(); ++f) {
     const TopoDS_Face& original = TopoDS::Face(faces(f));
-    const TopoDS_Face& face = TopoDS::Face(copier.ModifiedShape(original));
+    const TopoDS_Face face = TopoDS::Face(copier.ModifiedShape(original));
     TopLoc_Location location;
     const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(face, location);
     if (tri.IsNull()) throw GeometryError("tessellation left face " + std::to_string(f) + " without triangles");
