@@ -1,0 +1,118 @@
+#include "uv_domain.hpp"
+
+#include <BRep_Tool.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS.hxx>
+
+#include <algorithm>
+#include <cmath>
+
+namespace hg::geometry::exact {
+namespace {
+constexpr int kSamples = 64;  // per pcurve, to find where v turns
+constexpr int kBins = 64;
+}  // namespace
+
+UvDomain::UvDomain(const TopoDS_Face& face) {
+  for (TopExp_Explorer ex(face, TopAbs_EDGE); ex.More(); ex.Next()) {
+    double first, last;
+    const Handle(Geom2d_Curve) pcurve = BRep_Tool::CurveOnSurface(TopoDS::Edge(ex.Current()), face, first, last);
+    if (!pcurve.IsNull()) addCurve(pcurve, first, last);
+  }
+  buildBins();
+}
+
+// Cuts the pcurve where dv/dt changes sign (found on samples, refined by bisection).
+void UvDomain::addCurve(const Handle(Geom2d_Curve)& curve, double first, double last) {
+  curves_.push_back(curve);
+  const Geom2d_Curve* c = curve.get();
+  auto dv = [c](double t) {
+    gp_Pnt2d p;
+    gp_Vec2d d;
+    c->D1(t, p, d);
+    return d.Y();
+  };
+  std::vector<double> cuts{first};
+  double previous = dv(first);
+  for (int i = 1; i <= kSamples; ++i) {
+    const double t = first + (last - first) * i / kSamples;
+    const double current = dv(t);
+    if (previous * current < 0) {
+      double a = first + (last - first) * (i - 1) / kSamples, b = t;
+      for (int k = 0; k < 60; ++k) {
+        const double m = 0.5 * (a + b);
+        (dv(a) * dv(m) <= 0 ? b : a) = m;
+      }
+      cuts.push_back(0.5 * (a + b));
+    }
+    if (current != 0) previous = current;
+  }
+  cuts.push_back(last);
+  for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
+    Piece piece{c, cuts[i], cuts[i + 1], INFINITY, -INFINITY, INFINITY, -INFINITY, false};
+    for (int k = 0; k <= 16; ++k) {
+      const gp_Pnt2d p = c->Value(piece.t0 + (piece.t1 - piece.t0) * k / 16);
+      piece.uLow = std::min(piece.uLow, p.X());
+      piece.uHigh = std::max(piece.uHigh, p.X());
+    }
+    const double va = c->Value(piece.t0).Y(), vb = c->Value(piece.t1).Y();
+    piece.vLow = std::min(va, vb);
+    piece.vHigh = std::max(va, vb);
+    piece.increasing = vb > va;
+    // Between samples u may bulge a little beyond them: widen the box, the bisection decides.
+    const double margin = 0.1 * (piece.uHigh - piece.uLow) + 1e-9 * (1 + std::abs(piece.uHigh));
+    piece.uLow -= margin;
+    piece.uHigh += margin;
+    if (piece.vHigh > piece.vLow) pieces_.push_back(piece);  // a piece of constant v is never crossed
+  }
+}
+
+void UvDomain::buildBins() {
+  if (pieces_.empty()) return;
+  vMin_ = INFINITY;
+  vMax_ = -INFINITY;
+  for (const Piece& p : pieces_) {
+    vMin_ = std::min(vMin_, p.vLow);
+    vMax_ = std::max(vMax_, p.vHigh);
+  }
+  bins_.assign(kBins, {});
+  const double width = (vMax_ - vMin_) / kBins;
+  for (int i = 0; i < static_cast<int>(pieces_.size()); ++i) {
+    const int a = std::clamp(static_cast<int>((pieces_[i].vLow - vMin_) / width), 0, kBins - 1);
+    const int b = std::clamp(static_cast<int>((pieces_[i].vHigh - vMin_) / width), 0, kBins - 1);
+    for (int k = a; k <= b; ++k) bins_[k].push_back(i);
+  }
+}
+
+// Does the ray from (u, v) towards +u cross the piece? Half-open in v, so that a ray
+// through the point where two pieces meet counts one crossing, not two.
+bool UvDomain::crosses(const Piece& piece, double u, double v) const noexcept {
+  if (v < piece.vLow || v >= piece.vHigh) return false;
+  if (u < piece.uLow) return true;
+  if (u > piece.uHigh) return false;
+  double a = piece.t0, b = piece.t1;  // v(a) <= v <= v(b) after orienting
+  if (!piece.increasing) std::swap(a, b);
+  for (int k = 0; k < 64 && a != b; ++k) {
+    const double m = 0.5 * (a + b);
+    if (m == a || m == b) break;
+    (piece.curve->Value(m).Y() < v ? a : b) = m;
+  }
+  return piece.curve->Value(0.5 * (a + b)).X() > u;
+}
+
+bool UvDomain::contains(double u, double v) const noexcept {
+  if (pieces_.empty() || v < vMin_ || v > vMax_) return false;
+  const int bin = std::clamp(static_cast<int>((v - vMin_) / (vMax_ - vMin_) * kBins), 0, kBins - 1);
+  bool inside = false;
+  for (const int i : bins_[bin])
+    if (crosses(pieces_[i], u, v)) inside = !inside;
+  return inside;
+}
+
+std::size_t UvDomain::memoryBytes() const noexcept {
+  std::size_t bytes = sizeof(*this) + pieces_.capacity() * sizeof(Piece);
+  for (const auto& b : bins_) bytes += b.capacity() * sizeof(int);
+  return bytes;
+}
+
+}  // namespace hg::geometry::exact

@@ -1,0 +1,162 @@
+// The exact back end against OCCT's reference: the same distance to 1e-9 m, the same
+// sign, on planes, cylinders, fillets, holes and B-spline lofts; special points; tiny and
+// huge parts; warm starts; no allocation.
+#include <gtest/gtest.h>
+
+#include <BRepAdaptor_Curve.hxx>
+
+#include "alloc_counter.hpp"
+#include "hapticgrasp/geometry/backends.hpp"
+#include "test_shapes.hpp"
+
+namespace hg::geometry {
+namespace {
+
+struct Agreement {
+  double maxError = 0;
+  int signErrors = 0;
+  int count = 0;
+};
+
+Agreement compare(const PartModelPtr& part, const std::vector<Vec3>& points, bool warm) {
+  const auto reference = makeReferencePenetration(part);
+  const auto exact = makeExactPenetration(part);
+  Agreement a;
+  QueryState sr, se;
+  for (const Vec3& x : points) {
+    if (!warm) se.reset();
+    const Penetration r = reference->query(x, sr), e = exact->query(x, se);
+    EXPECT_NE(e.feature, Feature::None) << x.transpose();
+    a.maxError = std::max(a.maxError, std::abs(r.depth - e.depth));
+    // A sign decided on the surface itself is no error.
+    if (r.inside != e.inside && std::abs(r.depth) > 1e-9) ++a.signErrors;
+    ++a.count;
+  }
+  return a;
+}
+
+void expectAgreement(const PartModelPtr& part, int count, double shell_m) {
+  const Agreement a = compare(part, test::shellPoints(*part, count, shell_m), false);
+  EXPECT_LT(a.maxError, 1e-9) << part->name();
+  EXPECT_EQ(a.signErrors, 0) << part->name();
+}
+
+TEST(ExactPenetration, AgreesWithReferenceOnBox) { expectAgreement(test::boxPart(), 2000, 5e-3); }
+TEST(ExactPenetration, AgreesWithReferenceOnCylinder) { expectAgreement(test::cylinderPart(), 2000, 5e-3); }
+TEST(ExactPenetration, AgreesWithReferenceOnSphere) { expectAgreement(test::spherePart(), 1000, 5e-3); }
+TEST(ExactPenetration, AgreesWithReferenceOnFilletedDrilledBlock) { expectAgreement(test::drilledBlockPart(), 3000, 5e-3); }
+TEST(ExactPenetration, AgreesWithReferenceOnLoft) { expectAgreement(test::loftPart(), 1000, 5e-3); }
+
+TEST(ExactPenetration, WarmStartedPathAgreesWithReference) {
+  // A fingertip moving 0.05 mm per tick around the loft, 1 mm inside, crossing the seam.
+  const auto part = test::loftPart();
+  std::vector<Vec3> path;
+  for (int i = 0; i < 2000; ++i) {
+    const double a = 2 * M_PI * i / 2000.0 * 1.2;
+    path.emplace_back(0.025 * std::cos(a), 0.018 * std::sin(a), 0.05 + 0.01 * std::sin(3 * a));
+  }
+  const Agreement a = compare(part, path, true);
+  EXPECT_LT(a.maxError, 1e-9);
+  EXPECT_EQ(a.signErrors, 0);
+}
+
+TEST(ExactPenetration, SpecialPointsOfTheCylinder) {
+  const auto exact = makeExactPenetration(test::cylinderPart());
+  QueryState s;
+  // On the axis, every side point is equally close: depth is the radius.
+  Penetration p = exact->query(Vec3(0, 0, 0.05), s);
+  EXPECT_TRUE(p.inside);
+  EXPECT_NEAR(p.depth, 0.05, 1e-12);
+  EXPECT_EQ(p.feature, Feature::Face);
+  // Outside beyond the rim: the rim circle (an edge) is the closest feature.
+  s.reset();
+  p = exact->query(Vec3(0.06, 0, 0.21), s);
+  EXPECT_FALSE(p.inside);
+  EXPECT_EQ(p.feature, Feature::Edge);
+  EXPECT_NEAR(p.depth, -std::hypot(0.01, 0.01), 1e-12);
+  // On the surface: zero depth.
+  s.reset();
+  p = exact->query(Vec3(0.05, 0, 0.1), s);
+  EXPECT_NEAR(p.depth, 0, 1e-12);
+  // Inside near the cap: the cap is closer than the side.
+  s.reset();
+  p = exact->query(Vec3(0.0, 0.0, 0.199), s);
+  EXPECT_TRUE(p.inside);
+  EXPECT_NEAR(p.depth, 0.001, 1e-12);
+  EXPECT_NEAR(p.normal.z(), 1.0, 1e-12);
+}
+
+TEST(ExactPenetration, CornerOfTheBoxIsAVertexFoot) {
+  const auto exact = makeExactPenetration(test::boxPart());
+  QueryState s;
+  const Penetration p = exact->query(Vec3(0.051, 0.031, 0.016), s);
+  EXPECT_FALSE(p.inside);
+  EXPECT_EQ(p.feature, Feature::Vertex);
+  EXPECT_NEAR(p.depth, -std::sqrt(3.0) * 1e-3, 1e-12);
+  EXPECT_NEAR(p.foot.x(), 0.05, 1e-12);
+}
+
+TEST(ExactPenetration, TinyAndHugePartsScale) {
+  for (const double diameter_mm : {1.0, 10000.0}) {
+    const auto part = test::cylinderPart(diameter_mm, diameter_mm * 4);
+    const double r = diameter_mm * 1e-3 / 2;
+    const auto exact = makeExactPenetration(part);
+    QueryState s;
+    const Penetration p = exact->query(Vec3(0.9 * r, 0, 0), s);
+    EXPECT_TRUE(p.inside) << diameter_mm;
+    EXPECT_NEAR(p.depth, 0.1 * r, 1e-12 * r) << diameter_mm;
+    const Agreement a = compare(part, test::shellPoints(*part, 300, 0.05 * r), false);
+    EXPECT_LT(a.maxError, 1e-9 * std::max(1.0, r)) << diameter_mm;
+    EXPECT_EQ(a.signErrors, 0) << diameter_mm;
+  }
+}
+
+TEST(ExactPenetration, NanGivesNoContact) {
+  const auto exact = makeExactPenetration(test::boxPart());
+  QueryState s;
+  const Penetration p = exact->query(Vec3(NAN, 0, 0), s);
+  EXPECT_FALSE(p.inside);
+  EXPECT_EQ(p.feature, Feature::None);
+}
+
+TEST(ExactPenetration, QueriesDoNotAllocate) {
+  const auto part = test::drilledBlockPart();
+  const auto exact = makeExactPenetration(part);
+  const auto points = test::shellPoints(*part, 500, 5e-3);
+  QueryState s;
+  exact->query(points[0], s);
+  const long before = test::allocations();
+  double sum = 0;
+  for (const Vec3& x : points) sum += exact->query(x, s).depth;
+  EXPECT_EQ(test::allocations() - before, 0);
+  EXPECT_TRUE(std::isfinite(sum));
+}
+
+TEST(ContactTracking, HoldsTheEnteredFaceAcrossTheCylinderRimBisector) {
+  // A fingertip enters through the cap near the rim, then moves outwards and down so
+  // that the side becomes the closest face: the force direction must not flip at once.
+  const auto exact = makeExactPenetration(test::cylinderPart());
+  QueryState tracked, raw;
+  const double h = 2e-3;
+  int flipsTracked = 0, flipsRaw = 0;
+  Vec3 lastTracked = Vec3::Zero(), lastRaw = Vec3::Zero();
+  for (int i = 0; i <= 100; ++i) {
+    // Along the bisector of the rim, 3 mm inside, wobbling 0.2 mm across it.
+    const double wobble = 2e-4 * ((i % 2) ? 1 : -1);
+    const Vec3 x(0.047 + wobble, 0, 0.197 - wobble);
+    const Penetration t = exact->track(x, tracked, h), r = exact->query(x, raw);
+    ASSERT_TRUE(t.inside);
+    if (i > 0 && t.normal.dot(lastTracked) < 0.5) ++flipsTracked;
+    if (i > 0 && r.normal.dot(lastRaw) < 0.5) ++flipsRaw;
+    lastTracked = t.normal;
+    lastRaw = r.normal;
+  }
+  EXPECT_GT(flipsRaw, 50);   // the raw minimum flips between cap and side every tick
+  EXPECT_EQ(flipsTracked, 0);
+  // Far past the bisector the side is closer by more than the hysteresis: contact moves.
+  const Penetration moved = exact->track(Vec3(0.047, 0, 0.19), tracked, h);
+  EXPECT_NEAR(moved.normal.x(), 1.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace hg::geometry
