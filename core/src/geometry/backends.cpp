@@ -22,6 +22,17 @@ Backend parseBackend(std::string_view name) {
                       "' (reference, exact, mesh, field, analytic, auto)");
 }
 
+#ifndef HG_WITH_EMBREE
+PenetrationModelPtr makeMeshPenetration(PartModelPtr, double) {
+  throw GeometryError("the mesh back end was left out of this build (HG_WITH_EMBREE=OFF)");
+}
+#endif
+#ifndef HG_WITH_OPENVDB
+PenetrationModelPtr makeFieldPenetration(PartModelPtr, double) {
+  throw GeometryError("the field back end was left out of this build (HG_WITH_OPENVDB=OFF)");
+}
+#endif
+
 PenetrationModelPtr makePenetration(PartModelPtr part, Backend backend, double setting_m) {
   switch (backend) {
     case Backend::Reference: return makeReferencePenetration(std::move(part));

@@ -1,7 +1,9 @@
 // The reference back end: OCCT's own answer, used as the truth in tests and benchmarks.
 // BRepExtrema_DistShapeShape against the shells (against a solid it answers 0 for every
-// point inside) and BRepClass3d_SolidClassifier for the sign. Slow, and it allocates:
-// never on the servo thread.
+// point inside) and BRepClass3d_SolidClassifier for the sign. Both keep what they
+// precompute about the part (boxes of the faces, the solid explorer) across queries, so
+// that the ladder compares against OCCT at its best; that state is mutable, so queries
+// are serialised with a mutex. Slow, and it allocates: never on the servo thread.
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepClass3d_SolidClassifier.hxx>
 #include <BRepExtrema_DistShapeShape.hxx>
@@ -11,6 +13,8 @@
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
 
+#include <memory>
+#include <mutex>
 #include <vector>
 
 #include "hapticgrasp/geometry/backends.hpp"
@@ -26,7 +30,10 @@ class ReferencePenetration final : public PenetrationModel {
     BRep_Builder builder;
     builder.MakeCompound(shells_);
     for (TopExp_Explorer ex(part_->shape(), TopAbs_SHELL); ex.More(); ex.Next()) builder.Add(shells_, ex.Current());
-    for (TopExp_Explorer ex(part_->shape(), TopAbs_SOLID); ex.More(); ex.Next()) solids_.push_back(ex.Current());
+    for (TopExp_Explorer ex(part_->shape(), TopAbs_SOLID); ex.More(); ex.Next())
+      classifiers_.push_back(std::make_unique<BRepClass3d_SolidClassifier>(ex.Current()));
+    distance_.LoadS2(shells_);
+    distance_.SetFlag(Extrema_ExtFlag_MIN);
   }
 
   std::string_view name() const noexcept override { return "reference"; }
@@ -38,8 +45,10 @@ class ReferencePenetration final : public PenetrationModel {
     if (!xm.allFinite()) return {};
     try {
       const gp_Pnt x(xm.x() / s_, xm.y() / s_, xm.z() / s_);
-      BRepExtrema_DistShapeShape distance(BRepBuilderAPI_MakeVertex(x).Vertex(), shells_, Extrema_ExtFlag_MIN);
-      if (!distance.IsDone() || distance.NbSolution() == 0) return {};
+      const std::lock_guard lock(mutex_);
+      BRepExtrema_DistShapeShape& distance = distance_;
+      distance.LoadS1(BRepBuilderAPI_MakeVertex(x).Vertex());
+      if (!distance.Perform() || distance.NbSolution() == 0) return {};
       Penetration p;
       const gp_Pnt foot = distance.PointOnShape2(1);
       const double d = distance.Value();
@@ -70,9 +79,9 @@ class ReferencePenetration final : public PenetrationModel {
 
  private:
   TopAbs_State classify(const gp_Pnt& x) const {
-    for (const TopoDS_Shape& solid : solids_) {
-      BRepClass3d_SolidClassifier classifier(solid, x, 1e-9 * part_->characteristicLength() / s_);
-      if (classifier.State() == TopAbs_IN) return TopAbs_IN;
+    for (const auto& classifier : classifiers_) {
+      classifier->Perform(x, 1e-9 * part_->characteristicLength() / s_);
+      if (classifier->State() == TopAbs_IN) return TopAbs_IN;
     }
     return TopAbs_OUT;
   }
@@ -80,7 +89,9 @@ class ReferencePenetration final : public PenetrationModel {
   PartModelPtr part_;
   double s_;
   TopoDS_Compound shells_;
-  std::vector<TopoDS_Shape> solids_;
+  mutable std::mutex mutex_;
+  mutable BRepExtrema_DistShapeShape distance_;
+  std::vector<std::unique_ptr<BRepClass3d_SolidClassifier>> classifiers_;
 };
 
 }  // namespace

@@ -1,0 +1,220 @@
+#include "penetration_ladder.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "hapticgrasp/geometry/backends.hpp"
+#include "hapticgrasp/geometry/sample_parts.hpp"
+#include "hapticgrasp/geometry/tessellation.hpp"
+
+namespace hg::cli {
+namespace {
+
+using namespace hg::geometry;
+using Clock = std::chrono::steady_clock;
+
+double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+Percentiles percentiles(std::vector<double> v) {
+  if (v.empty()) return {};
+  std::sort(v.begin(), v.end());
+  return {v[v.size() / 2], v[static_cast<std::size_t>(0.99 * (v.size() - 1))], v.back()};
+}
+
+// Random points on the surface (area-weighted on a fine tessellation), each with the
+// surface normal there.
+struct SurfaceSampler {
+  Tessellation mesh;
+  std::vector<double> cumulative;
+  explicit SurfaceSampler(const PartModel& part) : mesh(tessellate(part, 1e-4 * part.characteristicLength())) {
+    double total = 0;
+    for (const auto& t : mesh.triangles) {
+      total += (mesh.vertices[t[1]] - mesh.vertices[t[0]]).cross(mesh.vertices[t[2]] - mesh.vertices[t[0]]).norm();
+      cumulative.push_back(total);
+    }
+  }
+  std::pair<Vec3, Vec3> sample(std::mt19937& rng) const {
+    std::uniform_real_distribution<double> unit(0, 1);
+    const auto it = std::lower_bound(cumulative.begin(), cumulative.end(), unit(rng) * cumulative.back());
+    const auto& t = mesh.triangles[std::min<std::size_t>(it - cumulative.begin(), mesh.triangles.size() - 1)];
+    double a = unit(rng), b = unit(rng);
+    if (a + b > 1) a = 1 - a, b = 1 - b;
+    const Vec3& p0 = mesh.vertices[t[0]];
+    const Vec3 e1 = mesh.vertices[t[1]] - p0, e2 = mesh.vertices[t[2]] - p0;
+    return {p0 + a * e1 + b * e2, e1.cross(e2).normalized()};
+  }
+};
+
+std::vector<Vec3> shellPoints(const SurfaceSampler& sampler, const LadderOptions& o, std::mt19937& rng) {
+  std::uniform_real_distribution<double> offset(-o.shell_m, o.shell_m);
+  std::vector<Vec3> points;
+  for (int i = 0; i < o.randomQueries; ++i) {
+    const auto [p, n] = sampler.sample(rng);
+    points.push_back(p + offset(rng) * n);
+  }
+  return points;
+}
+
+// A fingertip tracing the surface: it keeps `depth_m` inside and moves `step_m` per tick
+// along the tangent plane, so it runs over edges, down fillets and into holes.
+std::vector<Vec3> tracePath(const PenetrationModel& exact, const SurfaceSampler& sampler, const LadderOptions& o,
+                            std::mt19937& rng) {
+  std::normal_distribution<double> gauss;
+  auto [start, n] = sampler.sample(rng);
+  Vec3 heading = Vec3(gauss(rng), gauss(rng), gauss(rng));
+  heading = (heading - heading.dot(n) * n).normalized();
+  QueryState state;
+  Vec3 x = start - o.depth_m * n;
+  std::vector<Vec3> path;
+  path.reserve(o.coherentTicks);
+  for (int i = 0; i < o.coherentTicks; ++i) {
+    const Penetration p = exact.query(x + o.step_m * heading, state);
+    if (p.feature == Feature::None) break;
+    x = p.foot - o.depth_m * p.normal;
+    const Vec3 along = heading - heading.dot(p.normal) * p.normal;
+    if (along.norm() > 1e-6) heading = along.normalized();
+    path.push_back(x);
+  }
+  return path;
+}
+
+struct Answers {
+  std::vector<Penetration> random, coherent;
+};
+
+// Times each query on its own. steady_clock costs ~20 ns a call here: it is in the figures.
+template <class Query>
+std::vector<double> timeQueries(const std::vector<Vec3>& points, Query&& query, std::vector<Penetration>& answers) {
+  std::vector<double> us;
+  us.reserve(points.size());
+  answers.resize(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const auto t0 = Clock::now();
+    answers[i] = query(points[i]);
+    us.push_back(1e6 * seconds(Clock::now() - t0));
+  }
+  return us;
+}
+
+struct Rung {
+  std::string label;
+  std::function<PenetrationModelPtr()> make;
+  double signTolerance_m;  // a sign disagreement closer to the surface than this is no error
+};
+
+std::vector<Rung> rungsFor(const PartModelPtr& part) {
+  std::vector<Rung> rungs{{"reference", [part] { return makeReferencePenetration(part); }, 1e-9},
+                          {"exact", [part] { return makeExactPenetration(part); }, 1e-9}};
+  if (part->primitive().kind != Primitive::Kind::None)
+    rungs.push_back({"analytic", [part] { return makeAnalyticPenetration(part); }, 1e-9});
+  for (const double deflection : {1e-4, 1e-5})
+    rungs.push_back({"mesh", [part, deflection] { return makeMeshPenetration(part, deflection); }, 2 * deflection});
+  for (const double voxel : {1e-3, 5e-4})
+    rungs.push_back({"field", [part, voxel] { return makeFieldPenetration(part, voxel); }, 2 * voxel});
+  return rungs;
+}
+
+void measureErrors(const Answers& truth, const Answers& answers, std::size_t checkEvery, double signTolerance,
+                   RungResult& r) {
+  double sum2 = 0;
+  int n = 0;
+  auto check = [&](const Penetration& t, const Penetration& a) {
+    if (t.feature == Feature::None) return;
+    const double e = std::abs(t.depth - a.depth);
+    r.maxError_m = std::max(r.maxError_m, e);
+    sum2 += e * e;
+    ++n;
+    if (t.inside != a.inside && std::abs(t.depth) > signTolerance) ++r.signErrors;
+  };
+  for (std::size_t i = 0; i < truth.random.size(); ++i) check(truth.random[i], answers.random[i]);
+  for (std::size_t i = 0; i < truth.coherent.size(); ++i)
+    check(truth.coherent[i], answers.coherent[i * checkEvery]);
+  r.rmsError_m = n ? std::sqrt(sum2 / n) : 0;
+}
+
+}  // namespace
+
+LadderResult runPenetrationLadder(const LadderOptions& o, const std::function<void(const std::string&)>& log) {
+  const SamplePart sample = findPart(o.part);
+  const PartModelPtr part = PartModel::fromFile(sample.file, sample.unit);
+  LadderResult result{sample.name, part->faces().Extent(), {}};
+  std::mt19937 rng(o.seed);
+  const SurfaceSampler sampler(*part);
+  const std::vector<Vec3> random = shellPoints(sampler, o, rng);
+  const std::vector<Vec3> path = tracePath(*makeExactPenetration(part), sampler, o, rng);
+  const std::size_t checkEvery = std::max<std::size_t>(1, path.size() / std::max(1, o.referenceChecks));
+  std::vector<Vec3> checked;
+  for (std::size_t i = 0; i < path.size(); i += checkEvery) checked.push_back(path[i]);
+
+  Answers truth;
+  for (const Rung& rung : rungsFor(part)) {
+    log("  " + rung.label + " ...");
+    RungResult r;
+    const auto t0 = Clock::now();
+    PenetrationModelPtr model;
+    try {
+      model = rung.make();
+    } catch (const GeometryError& e) {
+      log("  " + rung.label + " skipped: " + e.what());
+      continue;
+    }
+    r.build_s = seconds(Clock::now() - t0);
+    r.name = std::string(model->name());
+    r.setting = model->setting();
+    r.memoryBytes = model->memoryBytes();
+    Answers answers;
+    QueryState cold;
+    r.random_us = percentiles(timeQueries(random, [&](const Vec3& x) { cold.reset(); return model->query(x, cold); },
+                                          answers.random));
+    QueryState warm;
+    const bool isReference = truth.random.empty();
+    // The reference follows only the checked ticks (it is slow); the others the whole path.
+    r.coherent_us = percentiles(timeQueries(isReference ? checked : path,
+                                            [&](const Vec3& x) { return model->query(x, warm); }, answers.coherent));
+    r.queries = static_cast<int>(answers.random.size() + answers.coherent.size());
+    if (isReference) truth = answers;
+    measureErrors(truth, answers, isReference ? 1 : checkEvery, rung.signTolerance_m, r);
+    result.rungs.push_back(r);
+  }
+  return result;
+}
+
+nlohmann::json toJson(const LadderResult& result) {
+  nlohmann::json backends = nlohmann::json::array();
+  for (const RungResult& r : result.rungs)
+    backends.push_back({{"name", r.name},
+                        {"setting", r.setting},
+                        {"build_s", r.build_s},
+                        {"memory_bytes", r.memoryBytes},
+                        {"random", {{"p50_us", r.random_us.p50}, {"p99_us", r.random_us.p99}}},
+                        {"coherent", {{"p50_us", r.coherent_us.p50}, {"p99_us", r.coherent_us.p99}}},
+                        {"max_dist_err_m", r.maxError_m},
+                        {"rms_dist_err_m", r.rmsError_m},
+                        {"sign_errors", r.signErrors},
+                        {"queries", r.queries}});
+  return {{"part", result.part}, {"faces", result.faces}, {"backends", backends}};
+}
+
+void printLadder(const LadderResult& result, std::ostream& out) {
+  char line[256];
+  out << "part " << result.part << ": " << result.faces << " faces\n";
+  std::snprintf(line, sizeof line, "%-10s %-22s %9s %10s %20s %20s %10s %10s %6s %9s\n", "back end", "setting",
+                "build s", "memory KiB", "random p50/p99 us", "coherent p50/p99 us", "max err m", "rms err m", "sign",
+                "vs ref");
+  out << line;
+  const double reference = result.rungs.empty() ? 0 : result.rungs.front().random_us.p50;
+  for (const RungResult& r : result.rungs) {
+    char random[32], coherent[32];
+    std::snprintf(random, sizeof random, "%.2f / %.2f", r.random_us.p50, r.random_us.p99);
+    std::snprintf(coherent, sizeof coherent, "%.2f / %.2f", r.coherent_us.p50, r.coherent_us.p99);
+    std::snprintf(line, sizeof line, "%-10s %-22s %9.3f %10.0f %20s %20s %10.1e %10.1e %6d %8.0fx\n", r.name.c_str(),
+                  r.setting.c_str(), r.build_s, r.memoryBytes / 1024.0, random, coherent, r.maxError_m, r.rmsError_m,
+                  r.signErrors, reference / std::max(r.random_us.p50, 1e-9));
+    out << line;
+  }
+}
+
+}  // namespace hg::cli
