@@ -27,12 +27,23 @@ struct Penetration {
   double distance() const { return depth < 0 ? -depth : depth; }
 };
 
+// Where a feature's projection ended last tick: the next one starts there.
+struct WarmStart {
+  Feature feature = Feature::None;
+  int index = 0;
+  double u = 0, v = 0;  // face: u, v; edge: u
+};
+
 // Small mutable state of one fingertip, kept by the caller from tick to tick: the warm
-// start of the next query and the feature tracked while in contact. Plain data, no heap.
+// starts of the next query and the feature tracked while in contact. Plain data, no heap.
 struct QueryState {
   Feature feature = Feature::None;  // closest feature last tick
   int index = 0;
   double u = 0, v = 0;              // its parameters (face: u, v; edge: u)
+  // The other features examined last tick (a part's neighbours of the foot are examined
+  // every tick; on freeform faces a cold start costs 10x a warm one).
+  static constexpr int kNeighbours = 6;
+  WarmStart neighbours[kNeighbours];
   Feature tracked = Feature::None;  // feature held while in contact (hysteresis)
   int trackedIndex = 0;
   double tu = 0, tv = 0;

@@ -54,12 +54,14 @@ bool EdgeModel::newton(const gp_Pnt& x, double& t) const noexcept {
     if (!std::isfinite(dt)) return false;
     dt = std::clamp(dt, -0.25 * (t1_ - t0_), 0.25 * (t1_ - t0_));
     t = std::clamp(fit(t + dt), t0_, t1_);
-    if (std::abs(dt) * std::sqrt(d1.SquareMagnitude()) < 1e-15 * (1 + c.XYZ().Modulus())) break;
+    // Quadratic convergence: once a step moves the point by less than this, the next
+    // would be below rounding (a stricter test only burns iterations).
+    if (std::abs(dt) * std::sqrt(d1.SquareMagnitude()) < 1e-12 * (1 + c.XYZ().Modulus())) break;
   }
   return true;
 }
 
-bool EdgeModel::project(const gp_Pnt& x, bool warm, double t, double bound, EdgeFoot& foot) const noexcept {
+bool EdgeModel::project(const gp_Pnt& x, bool warm, double& t, double bound, EdgeFoot& foot) const noexcept {
   if (type_ == GeomAbs_Line) {
     t = ElCLib::Parameter(line_, x);
   } else if (type_ == GeomAbs_Circle) {

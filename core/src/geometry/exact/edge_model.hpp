@@ -31,8 +31,8 @@ class EdgeModel {
   // A seam or a degenerated edge is never the closest feature: its face answers for it.
   bool usable() const { return usable_; }
   // The closest interior point of the edge; false when it is an end (a vertex answers),
-  // or when it cannot beat `bound`.
-  bool project(const gp_Pnt& x, bool warm, double t, double bound, EdgeFoot& foot) const noexcept;
+  // or when it cannot beat `bound`. t is left where the search ended (next warm start).
+  bool project(const gp_Pnt& x, bool warm, double& t, double bound, EdgeFoot& foot) const noexcept;
   // The sum of the adjacent faces' outward normals at parameter t.
   gp_Vec pseudoNormal(double t, const std::vector<FaceModel>& faces) const noexcept;
   std::size_t memoryBytes() const noexcept { return sizeof(*this) + seeds_.capacity() * sizeof(seeds_[0]); }

@@ -43,6 +43,16 @@ Aabb boxOf(const TopoDS_Shape& shape, double margin) {
 // Faces are preferred to edges, edges to vertices, where two are equally close.
 int rank(Feature f) { return f == Feature::Face ? 0 : f == Feature::Edge ? 1 : 2; }
 
+// The features a query examined, with where their searches ended: next tick's warm starts.
+struct Examined {
+  static constexpr int kCapacity = 16;
+  WarmStart entries[kCapacity];
+  int count = 0;
+  void add(Feature kind, int index, double u, double v) {
+    if (count < kCapacity) entries[count++] = {kind, index + 1, u, v};
+  }
+};
+
 // The best candidate so far, in model units.
 struct Candidate {
   Feature kind = Feature::None;
@@ -66,7 +76,7 @@ class ExactPenetration final : public PenetrationModel {
                     Penetration& out) const noexcept override;
 
  private:
-  void evaluate(FeatureRef f, const gp_Pnt& x, bool warm, double u, double v, Candidate& best) const noexcept;
+  void evaluate(FeatureRef f, const gp_Pnt& x, const WarmStart* warm, Examined& examined, Candidate& best) const noexcept;
   bool better(Feature kind, double d, const Candidate& best) const noexcept {
     return d < best.distance - tie_ || (d <= best.distance + tie_ && rank(kind) < rank(best.kind));
   }
@@ -114,19 +124,23 @@ ExactPenetration::ExactPenetration(PartModelPtr part) : part_(std::move(part)), 
   bvh_.build();
 }
 
-void ExactPenetration::evaluate(FeatureRef f, const gp_Pnt& x, bool warm, double u, double v,
+void ExactPenetration::evaluate(FeatureRef f, const gp_Pnt& x, const WarmStart* warm, Examined& examined,
                                 Candidate& best) const noexcept {
+  double u = warm ? warm->u : 0, v = warm ? warm->v : 0;
   switch (f.kind) {
     case Feature::Face: {
       FaceFoot foot;
-      if (faces_[f.index].project(x, warm, u, v, best.distance + tie_, foot) &&
-          better(Feature::Face, foot.distance, best))
+      const bool found = faces_[f.index].project(x, warm != nullptr, u, v, best.distance + tie_, foot);
+      examined.add(Feature::Face, f.index, u, v);
+      if (found && better(Feature::Face, foot.distance, best))
         best = {Feature::Face, f.index, foot.u, foot.v, foot.point, foot.distance};
       break;
     }
     case Feature::Edge: {
       EdgeFoot foot;
-      if (edges_[f.index].project(x, warm, u, best.distance + tie_, foot) && better(Feature::Edge, foot.distance, best))
+      const bool found = edges_[f.index].project(x, warm != nullptr, u, best.distance + tie_, foot);
+      examined.add(Feature::Edge, f.index, u, 0);
+      if (found && better(Feature::Edge, foot.distance, best))
         best = {Feature::Edge, f.index, foot.t, 0, foot.point, foot.distance};
       break;
     }
@@ -167,18 +181,29 @@ Penetration ExactPenetration::answer(const gp_Pnt& x, const Candidate& c) const 
   return p;
 }
 
+// The warm start a state holds for feature f, if any.
+const WarmStart* warmStartFor(const QueryState& state, FeatureRef f) {
+  if (state.feature == f.kind && state.index == f.index + 1) return nullptr;  // handled first
+  for (const WarmStart& w : state.neighbours)
+    if (w.feature == f.kind && w.index == f.index + 1) return &w;
+  return nullptr;
+}
+
 Penetration ExactPenetration::query(const Vec3& xm, QueryState& state) const noexcept {
   if (!xm.allFinite()) return {};
   try {
     const Vec3 xu = xm / s_;
     const gp_Pnt x(xu.x(), xu.y(), xu.z());
     Candidate best;
-    const FeatureRef warm{state.feature, state.index - 1};
-    if (state.feature != Feature::None) evaluate(warm, x, true, state.u, state.v, best);
+    Examined examined;
+    // Last tick's closest feature first: its distance prunes most of the BVH.
+    const FeatureRef last{state.feature, state.index - 1};
+    const WarmStart lastStart{state.feature, state.index, state.u, state.v};
+    if (state.feature != Feature::None) evaluate(last, x, &lastStart, examined, best);
     bvh_.nearest(
         xu,
         [&](FeatureRef f) {
-          if (f.kind != warm.kind || f.index != warm.index) evaluate(f, x, false, 0, 0, best);
+          if (f.kind != last.kind || f.index != last.index) evaluate(f, x, warmStartFor(state, f), examined, best);
         },
         [&] { return (best.distance + tie_) * (best.distance + tie_); });
     if (best.kind == Feature::None) return {};
@@ -186,6 +211,11 @@ Penetration ExactPenetration::query(const Vec3& xm, QueryState& state) const noe
     state.index = best.index + 1;
     state.u = best.u;
     state.v = best.v;
+    int n = 0;
+    for (int i = 0; i < examined.count && n < QueryState::kNeighbours; ++i)
+      if (!(examined.entries[i].feature == best.kind && examined.entries[i].index == best.index + 1))
+        state.neighbours[n++] = examined.entries[i];
+    for (; n < QueryState::kNeighbours; ++n) state.neighbours[n] = {};
     return answer(x, best);
   } catch (const Standard_Failure&) {
     return {};  // a surface that cannot be evaluated here: no contact rather than a crash
@@ -199,7 +229,9 @@ bool ExactPenetration::queryFeature(const Vec3& xm, Feature feature, int index, 
     const Vec3 xu = xm / s_;
     const gp_Pnt x(xu.x(), xu.y(), xu.z());
     Candidate held;
-    evaluate({feature, index - 1}, x, true, u, v, held);
+    Examined examined;
+    const WarmStart start{feature, index, u, v};
+    evaluate({feature, index - 1}, x, &start, examined, held);
     if (held.kind == Feature::None) return false;
     u = held.u;
     v = held.v;

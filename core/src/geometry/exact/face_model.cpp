@@ -30,6 +30,7 @@ bool isClosedForm(GeomAbs_SurfaceType type) {
 
 FaceModel::FaceModel(const TopoDS_Face& face, double characteristicLength)
     : surface_(BRep_Tool::Surface(face)),
+      evaluator_(surface_),
       reversed_(face.Orientation() == TopAbs_REVERSED),
       tolerance_(std::max(BRep_Tool::Tolerance(face), 1e-12 * characteristicLength)),
       domain_(face) {
@@ -131,16 +132,36 @@ bool FaceModel::wrapOrClamp(double& u, double& v) const noexcept {
 }
 
 // Minimises |S(u,v) - x|^2 with Newton on the exact second derivatives, falling back to
-// Gauss-Newton where the Hessian is not positive definite, with step halving so the
-// distance never grows. Clamps (or wraps) to the face's UV box at every step.
+// Gauss-Newton where the Hessian is not positive definite. A step that made the distance
+// grow is halved (checked with the next evaluation, which Newton needs anyway). Clamps
+// (or wraps) to the face's UV box; pushing against the box twice in a row means the
+// closest point of the face is on its boundary, which an edge or vertex answers for.
 bool FaceModel::newton(const gp_Pnt& x, double& u, double& v) const noexcept {
   gp_Pnt S;
   gp_Vec Su, Sv, Suu, Svv, Suv;
   const double maxStepU = 0.25 * (u1_ - u0_), maxStepV = 0.25 * (v1_ - v0_);
-  bool inside = true;
+  double uPrev = u, vPrev = v, fPrev = INFINITY, du = 0, dv = 0;
+  int clamped = 0;
   for (int iteration = 0; iteration < 40; ++iteration) {
-    surface_->D2(u, v, S, Su, Sv, Suu, Svv, Suv);
+    evaluator_.d2(u, v, S, Su, Sv, Suu, Svv, Suv);
     const gp_Vec r(x, S);
+    const double f = r.SquareMagnitude();
+    // Overshot: back up half way. Near the minimum f changes by rounding only; such a
+    // change is no overshoot (treating it as one halved the step forever).
+    if (f > fPrev * (1 + 1e-12) + 1e-30) {
+      du *= 0.5;
+      dv *= 0.5;
+      if ((std::abs(du) * std::sqrt(Su.SquareMagnitude()) + std::abs(dv) * std::sqrt(Sv.SquareMagnitude())) <
+          1e-3 * tolerance_) {
+        u = uPrev;
+        v = vPrev;
+        return clamped == 0;
+      }
+      u = uPrev + du;
+      v = vPrev + dv;
+      wrapOrClamp(u, v);
+      continue;
+    }
     const double gu = r.Dot(Su), gv = r.Dot(Sv);
     const double guu = Su.Dot(Su), gvv = Sv.Dot(Sv), guv = Su.Dot(Sv);
     double a = guu + r.Dot(Suu), b = guv + r.Dot(Suv), c = gvv + r.Dot(Svv);
@@ -152,24 +173,22 @@ bool FaceModel::newton(const gp_Pnt& x, double& u, double& v) const noexcept {
       det = a * c - b * b;
       if (!(det > 0)) return false;  // singular point (a pole): give up on this face
     }
-    double du = std::clamp(-(c * gu - b * gv) / det, -maxStepU, maxStepU);
-    double dv = std::clamp(-(a * gv - b * gu) / det, -maxStepV, maxStepV);
-    const double f0 = r.SquareMagnitude();
-    double un = u + du, vn = v + dv;
-    inside = wrapOrClamp(un, vn);
-    for (int halving = 0; halving < 8 && surface_->Value(un, vn).SquareDistance(x) > f0; ++halving) {
-      du *= 0.5;
-      dv *= 0.5;
-      un = u + du;
-      vn = v + dv;
-      inside = wrapOrClamp(un, vn);
+    du = std::clamp(-(c * gu - b * gv) / det, -maxStepU, maxStepU);
+    dv = std::clamp(-(a * gv - b * gu) / det, -maxStepV, maxStepV);
+    uPrev = u;
+    vPrev = v;
+    fPrev = f;
+    u += du;
+    v += dv;
+    if (!wrapOrClamp(u, v)) {
+      if (++clamped == 2) return false;
+    } else {
+      clamped = 0;
     }
-    u = un;
-    v = vn;
     const double step = std::abs(du) * std::sqrt(guu) + std::abs(dv) * std::sqrt(gvv);
-    if (step < 1e-3 * tolerance_) break;
+    if (step < 1e-3 * tolerance_) return clamped == 0;
   }
-  return inside;
+  return clamped == 0;
 }
 
 bool FaceModel::insideTrimmedFace(double u, double v) const noexcept {
@@ -179,12 +198,12 @@ bool FaceModel::insideTrimmedFace(double u, double v) const noexcept {
 gp_Vec FaceModel::normalAt(double u, double v) const noexcept {
   gp_Pnt p;
   gp_Vec du, dv;
-  surface_->D1(u, v, p, du, dv);
+  evaluator_.d1(u, v, p, du, dv);
   gp_Vec n = du.Crossed(dv);
   if (n.SquareMagnitude() < 1e-24 * du.SquareMagnitude() * dv.SquareMagnitude() || n.SquareMagnitude() == 0) {
     // A pole (sphere, cone apex): the normal of a point just inside the UV box.
     const double nu = u + 1e-6 * (0.5 * (u0_ + u1_) - u), nv = v + 1e-6 * (0.5 * (v0_ + v1_) - v);
-    surface_->D1(nu, nv, p, du, dv);
+    evaluator_.d1(nu, nv, p, du, dv);
     n = du.Crossed(dv);
   }
   const double m = n.Magnitude();
@@ -192,7 +211,7 @@ gp_Vec FaceModel::normalAt(double u, double v) const noexcept {
   return reversed_ ? n.Reversed() : n;
 }
 
-bool FaceModel::project(const gp_Pnt& x, bool warm, double u, double v, double bound,
+bool FaceModel::project(const gp_Pnt& x, bool warm, double& u, double& v, double bound,
                         FaceFoot& foot) const noexcept {
   if (!closedForm(x, u, v)) {
     if (!warm) {
@@ -204,7 +223,7 @@ bool FaceModel::project(const gp_Pnt& x, bool warm, double u, double v, double b
     if (!newton(x, u, v)) return false;
   }
   if (!wrapOrClamp(u, v)) return false;  // the surface's foot lies beyond the face
-  const gp_Pnt p = surface_->Value(u, v);
+  const gp_Pnt p = evaluator_.value(u, v);
   const double d = p.Distance(x);
   if (d >= bound) return false;          // cannot beat what we have: skip the classifier
   if (!insideTrimmedFace(u, v)) return false;
@@ -217,7 +236,7 @@ bool FaceModel::project(const gp_Pnt& x, bool warm, double u, double v, double b
 }
 
 std::size_t FaceModel::memoryBytes() const noexcept {
-  return sizeof(*this) + seeds_.capacity() * sizeof(SurfaceSeed) + domain_.memoryBytes();
+  return sizeof(*this) + seeds_.capacity() * sizeof(SurfaceSeed) + domain_.memoryBytes() + evaluator_.memoryBytes();
 }
 
 }  // namespace hg::geometry::exact

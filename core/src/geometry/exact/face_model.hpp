@@ -13,6 +13,7 @@
 
 #include <vector>
 
+#include "surface_evaluator.hpp"
 #include "uv_domain.hpp"
 
 namespace hg::geometry::exact {
@@ -35,9 +36,10 @@ class FaceModel {
   FaceModel(const TopoDS_Face& face, double characteristicLength);
 
   // The closest point of the face to x, from (u, v) when `warm`, else from the closed form
-  // or the nearest seed. False when the surface's closest point lies outside the trimmed
-  // face (an edge or vertex of the face is then closer) or when `bound` cannot be beaten.
-  bool project(const gp_Pnt& x, bool warm, double u, double v, double bound, FaceFoot& foot) const noexcept;
+  // or the nearest seed; (u, v) is left where the search ended, for the next warm start.
+  // False when the surface's closest point lies outside the trimmed face (an edge or
+  // vertex of the face is then closer) or when `bound` cannot be beaten.
+  bool project(const gp_Pnt& x, bool warm, double& u, double& v, double bound, FaceFoot& foot) const noexcept;
   // Outward unit normal at (u, v).
   gp_Vec normalAt(double u, double v) const noexcept;
   std::size_t memoryBytes() const noexcept;
@@ -51,6 +53,7 @@ class FaceModel {
   void buildSeeds(const TopoDS_Face& face);
 
   Handle(Geom_Surface) surface_;
+  SurfaceEvaluator evaluator_;
   GeomAbs_SurfaceType type_;
   gp_Pln plane_;
   gp_Cylinder cylinder_;

@@ -9,7 +9,8 @@
 
 namespace hg::geometry::exact {
 namespace {
-constexpr int kSamples = 64;  // per pcurve, to find where v turns
+constexpr int kSamples = 64;     // per pcurve, to find where v turns
+constexpr int kSubdivisions = 8;  // per monotone piece: small boxes settle most rays unsolved
 constexpr int kBins = 64;
 }  // namespace
 
@@ -48,23 +49,30 @@ void UvDomain::addCurve(const Handle(Geom2d_Curve)& curve, double first, double 
     if (current != 0) previous = current;
   }
   cuts.push_back(last);
-  for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
-    Piece piece{c, cuts[i], cuts[i + 1], INFINITY, -INFINITY, INFINITY, -INFINITY, false};
-    for (int k = 0; k <= 16; ++k) {
-      const gp_Pnt2d p = c->Value(piece.t0 + (piece.t1 - piece.t0) * k / 16);
-      piece.uLow = std::min(piece.uLow, p.X());
-      piece.uHigh = std::max(piece.uHigh, p.X());
+  for (std::size_t i = 0; i + 1 < cuts.size(); ++i)
+    for (int k = 0; k < kSubdivisions; ++k) {
+      const double a = cuts[i] + (cuts[i + 1] - cuts[i]) * k / kSubdivisions;
+      const double b = cuts[i] + (cuts[i + 1] - cuts[i]) * (k + 1) / kSubdivisions;
+      addPiece(c, a, b);
     }
-    const double va = c->Value(piece.t0).Y(), vb = c->Value(piece.t1).Y();
-    piece.vLow = std::min(va, vb);
-    piece.vHigh = std::max(va, vb);
-    piece.increasing = vb > va;
-    // Between samples u may bulge a little beyond them: widen the box, the bisection decides.
-    const double margin = 0.1 * (piece.uHigh - piece.uLow) + 1e-9 * (1 + std::abs(piece.uHigh));
-    piece.uLow -= margin;
-    piece.uHigh += margin;
-    if (piece.vHigh > piece.vLow) pieces_.push_back(piece);  // a piece of constant v is never crossed
+}
+
+void UvDomain::addPiece(const Geom2d_Curve* c, double t0, double t1) {
+  Piece piece{c, t0, t1, INFINITY, -INFINITY, INFINITY, -INFINITY, false};
+  for (int k = 0; k <= 16; ++k) {
+    const gp_Pnt2d p = c->Value(t0 + (t1 - t0) * k / 16);
+    piece.uLow = std::min(piece.uLow, p.X());
+    piece.uHigh = std::max(piece.uHigh, p.X());
   }
+  const double va = c->Value(t0).Y(), vb = c->Value(t1).Y();
+  piece.vLow = std::min(va, vb);
+  piece.vHigh = std::max(va, vb);
+  piece.increasing = vb > va;
+  // Between samples u may bulge a little beyond them: widen the box; the root decides.
+  const double margin = 0.1 * (piece.uHigh - piece.uLow) + 1e-9 * (1 + std::abs(piece.uHigh));
+  piece.uLow -= margin;
+  piece.uHigh += margin;
+  if (piece.vHigh > piece.vLow) pieces_.push_back(piece);  // a piece of constant v is never crossed
 }
 
 void UvDomain::buildBins() {
@@ -90,14 +98,26 @@ bool UvDomain::crosses(const Piece& piece, double u, double v) const noexcept {
   if (v < piece.vLow || v >= piece.vHigh) return false;
   if (u < piece.uLow) return true;
   if (u > piece.uHigh) return false;
-  double a = piece.t0, b = piece.t1;  // v(a) <= v <= v(b) after orienting
-  if (!piece.increasing) std::swap(a, b);
-  for (int k = 0; k < 64 && a != b; ++k) {
-    const double m = 0.5 * (a + b);
-    if (m == a || m == b) break;
-    (piece.curve->Value(m).Y() < v ? a : b) = m;
+  // v(t) = v0 on a monotone piece: Illinois regula falsi (superlinear, bracketing).
+  double a = piece.t0, b = piece.t1;
+  double fa = piece.curve->Value(a).Y() - v, fb = piece.curve->Value(b).Y() - v;
+  double t = a;
+  for (int k = 0; k < 60; ++k) {
+    if (fb == fa) break;
+    t = b - fb * (b - a) / (fb - fa);
+    const double ft = piece.curve->Value(t).Y() - v;
+    if (ft == 0) break;
+    if ((ft < 0) != (fb < 0)) {
+      a = b;
+      fa = fb;
+    } else {
+      fa *= 0.5;
+    }
+    b = t;
+    fb = ft;
+    if (std::abs(b - a) <= 1e-15 * (1 + std::abs(a) + std::abs(b))) break;
   }
-  return piece.curve->Value(0.5 * (a + b)).X() > u;
+  return piece.curve->Value(t).X() > u;
 }
 
 bool UvDomain::contains(double u, double v) const noexcept {

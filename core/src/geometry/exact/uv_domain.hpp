@@ -23,10 +23,11 @@ class UvDomain {
     double t0, t1;              // v(t) is monotone on [t0, t1]
     double vLow, vHigh;         // v over the piece
     double uLow, uHigh;         // u over the piece (with a margin)
-    bool increasing;            // v(t0) < v(t1)
+    bool increasing;            // v(t0) < v(t1)  (kept for clarity of the box; the root needs no orientation)
   };
   bool crosses(const Piece& piece, double u, double v) const noexcept;
   void addCurve(const Handle(Geom2d_Curve)& curve, double first, double last);
+  void addPiece(const Geom2d_Curve* curve, double t0, double t1);
   void buildBins();
 
   std::vector<Handle(Geom2d_Curve)> curves_;
