@@ -168,3 +168,17 @@ TEST(ContactTracking, HoldsTheEnteredFaceAcrossTheCylinderRimBisector) {
 
 }  // namespace
 }  // namespace hg::geometry
+
+namespace hg::geometry {
+namespace {
+
+TEST(Backends, AutoPicksAnalyticForPrimitivesAndExactOtherwise) {
+  EXPECT_EQ(makePenetration(test::cylinderPart())->name(), "analytic");
+  EXPECT_EQ(makePenetration(test::drilledBlockPart())->name(), "exact");
+  EXPECT_EQ(makePenetration(test::loftPart(), Backend::Auto)->name(), "exact");
+  EXPECT_EQ(parseBackend("mesh"), Backend::Mesh);
+  EXPECT_THROW(parseBackend("voxels"), GeometryError);
+}
+
+}  // namespace
+}  // namespace hg::geometry

@@ -41,7 +41,14 @@ PenetrationModelPtr makePenetration(PartModelPtr part, Backend backend, double s
     case Backend::Field: return makeFieldPenetration(std::move(part), setting_m > 0 ? setting_m : 1e-3);
     case Backend::Analytic: return makeAnalyticPenetration(std::move(part));
     default:
-      if (part->primitive().kind != Primitive::Kind::None) return makeAnalyticPenetration(std::move(part));
+      if (part->primitive().kind != Primitive::Kind::None) {
+        try {
+          return makeAnalyticPenetration(part);
+        } catch (const GeometryError&) {
+          // A primitive whose topology the closed form cannot name (a split rim, many
+          // edges): the exact back end answers it as well, only slower.
+        }
+      }
       return makeExactPenetration(std::move(part));
   }
 }

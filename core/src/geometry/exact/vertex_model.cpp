@@ -49,7 +49,7 @@ Tangents travelTangent(const TopoDS_Edge& edge, const TopoDS_Face& face, bool at
 // inside the face is decided by classifying a UV point on the bisector (this does not
 // depend on how the face's wires happen to be oriented).
 double interiorAngle(const TopoDS_Edge& in, const TopoDS_Edge& out, const TopoDS_Vertex& v, const TopoDS_Face& face,
-                     const BRepTopAdaptor_FClass2d& classifier) {
+                     const BRepTopAdaptor_FClass2d& classifier, double probeStep) {
   const Tangents a = travelTangent(in, face, false), b = travelTangent(out, face, true);
   if (!a.ok || !b.ok) return M_PI;
   const gp_Vec back = a.d3.Reversed();
@@ -61,10 +61,7 @@ double interiorAngle(const TopoDS_Edge& in, const TopoDS_Edge& out, const TopoDS
   if (bisector.SquareMagnitude() < 1e-12) bisector = gp_Vec2d(-out2.Y(), out2.X());
   bisector.Normalize();
   const gp_Pnt2d uv = BRep_Tool::Parameters(v, face);
-  double u0, u1, v0, v1;
-  BRepTools::UVBounds(face, u0, u1, v0, v1);
-  const double step = 1e-5 * std::max(u1 - u0, v1 - v0);
-  const gp_Pnt2d probe(uv.X() + step * bisector.X(), uv.Y() + step * bisector.Y());
+  const gp_Pnt2d probe(uv.X() + probeStep * bisector.X(), uv.Y() + probeStep * bisector.Y());
   const TopAbs_State state = classifier.Perform(probe);
   return state == TopAbs_OUT ? 2 * M_PI - angle : angle;
 }
@@ -82,6 +79,9 @@ std::vector<VertexModel> buildVertexModels(const TopTools_IndexedMapOfShape& ver
   for (int f = 1; f <= faces.Extent(); ++f) {
     const TopoDS_Face& face = TopoDS::Face(faces(f));
     const BRepTopAdaptor_FClass2d classifier(face, BRep_Tool::Tolerance(face));
+    double u0, u1, v0, v1;
+    BRepTools::UVBounds(face, u0, u1, v0, v1);
+    const double probeStep = 1e-5 * std::max(u1 - u0, v1 - v0);
     for (TopExp_Explorer w(face, TopAbs_WIRE); w.More(); w.Next()) {
       std::vector<TopoDS_Edge> edges;
       std::vector<TopoDS_Vertex> starts;  // the vertex each edge starts from
@@ -93,7 +93,7 @@ std::vector<VertexModel> buildVertexModels(const TopTools_IndexedMapOfShape& ver
         const TopoDS_Edge& in = edges[(k + edges.size() - 1) % edges.size()];
         const int vi = vertices.FindIndex(starts[k]);
         if (vi == 0) continue;
-        const double angle = interiorAngle(in, edges[k], starts[k], face, classifier);
+        const double angle = interiorAngle(in, edges[k], starts[k], face, classifier, probeStep);
         const gp_Pnt2d uv = BRep_Tool::Parameters(starts[k], face);
         models[vi - 1].pseudoNormal += angle * faceModels[f - 1].normalAt(uv.X(), uv.Y());
       }
