@@ -19,7 +19,10 @@ EdgeModel::EdgeModel(const TopoDS_Edge& edge, const std::vector<std::pair<TopoDS
   type_ = adaptor.GetType();
   if (type_ == GeomAbs_Line) line_ = adaptor.Line();
   if (type_ == GeomAbs_Circle) circle_ = adaptor.Circle();
+  // A whole closed edge (a circle, a loft's rim) wraps at its seam vertex: a B-spline
+  // through closed sections is closed without being periodic.
   if (curve_->IsPeriodic() && t1_ - t0_ >= curve_->Period() - 1e-12) period_ = curve_->Period();
+  else if (BRep_Tool::IsClosed(edge)) period_ = t1_ - t0_;
   for (const auto& [face, index] : faces) {
     if (sideCount_ == 2) break;
     double f, l;
@@ -43,9 +46,13 @@ double EdgeModel::fit(double t) const noexcept {
   return t;
 }
 
+// Minimises |C(t) - x|^2 by Newton (Gauss-Newton where the curvature term would make it
+// climb). Convergence is judged on the step actually taken: at a clamped end the proposed
+// step never shrinks, and the end belongs to a vertex anyway.
 bool EdgeModel::newton(const gp_Pnt& x, double& t) const noexcept {
   gp_Pnt c;
   gp_Vec d1, d2;
+  int clamped = 0;
   for (int iteration = 0; iteration < 30; ++iteration) {
     curve_->D2(t, c, d1, d2);
     const gp_Vec r(x, c);
@@ -53,10 +60,13 @@ bool EdgeModel::newton(const gp_Pnt& x, double& t) const noexcept {
     double dt = -g / (h > 0 ? h : d1.Dot(d1));
     if (!std::isfinite(dt)) return false;
     dt = std::clamp(dt, -0.25 * (t1_ - t0_), 0.25 * (t1_ - t0_));
-    t = std::clamp(fit(t + dt), t0_, t1_);
+    const double next = std::clamp(fit(t + dt), t0_, t1_);
+    if (period_ == 0 && next != fit(t + dt) && ++clamped == 2) return false;
+    const double moved = std::abs(next - t);
+    t = next;
     // Quadratic convergence: once a step moves the point by less than this, the next
     // would be below rounding (a stricter test only burns iterations).
-    if (std::abs(dt) * std::sqrt(d1.SquareMagnitude()) < 1e-12 * (1 + c.XYZ().Modulus())) break;
+    if (moved * std::sqrt(d1.SquareMagnitude()) < 1e-12 * (1 + c.XYZ().Modulus())) break;
   }
   return true;
 }

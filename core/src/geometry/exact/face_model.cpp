@@ -141,7 +141,7 @@ bool FaceModel::newton(const gp_Pnt& x, double& u, double& v) const noexcept {
   gp_Vec Su, Sv, Suu, Svv, Suv;
   const double maxStepU = 0.25 * (u1_ - u0_), maxStepV = 0.25 * (v1_ - v0_);
   double uPrev = u, vPrev = v, fPrev = INFINITY, du = 0, dv = 0;
-  int clamped = 0;
+  int clamped = 0, clampedTotal = 0;
   for (int iteration = 0; iteration < 40; ++iteration) {
     evaluator_.d2(u, v, S, Su, Sv, Suu, Svv, Suv);
     const gp_Vec r(x, S);
@@ -149,6 +149,8 @@ bool FaceModel::newton(const gp_Pnt& x, double& u, double& v) const noexcept {
     // Overshot: back up half way. Near the minimum f changes by rounding only; such a
     // change is no overshoot (treating it as one halved the step forever).
     if (f > fPrev * (1 + 1e-12) + 1e-30) {
+      // A clamped step that made things worse: the minimum is on the boundary (an edge's).
+      if (clamped > 0) return false;
       du *= 0.5;
       dv *= 0.5;
       if ((std::abs(du) * std::sqrt(Su.SquareMagnitude()) + std::abs(dv) * std::sqrt(Sv.SquareMagnitude())) <
@@ -180,8 +182,11 @@ bool FaceModel::newton(const gp_Pnt& x, double& u, double& v) const noexcept {
     fPrev = f;
     u += du;
     v += dv;
+    // Pushing against the UV box twice in a row, or three times at all: the closest
+    // point of the face is on its boundary.
     if (!wrapOrClamp(u, v)) {
-      if (++clamped == 2) return false;
+      ++clampedTotal;
+      if (++clamped == 2 || clampedTotal == 3) return false;
     } else {
       clamped = 0;
     }
