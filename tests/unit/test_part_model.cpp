@@ -1,0 +1,667 @@
+// PartModel: every bad input is a GeometryError naming the problem; units, mass properties
+// and the sample parts.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakePolygon.hxx>
+#include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepBuilderAPI_MakeVertex.hxx>
+#include <BRepBuilderAPI_Transform.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Builder.hxx>
+#include <IFSelect_ReturnStatus.hxx>
+#include <Interface_Static.hxx>
+#include <STEPControl_Writer.hxx>
+#include <TopoDS_Compound.hxx>
+#include <TopoDS_Shell.hxx>
+#include <TopoDS_Solid.hxx>
+#include <gp_Pln.hxx>
+#include <gp_Quaternion.hxx>
+#include <gp_Trsf.hxx>
+
+#include <Eigen/Eigenvalues>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+#include <unistd.h>
+
+#include "hapticgrasp/geometry/geometry_error.hpp"
+#include "hapticgrasp/geometry/mass_properties.hpp"
+#include "hapticgrasp/geometry/part_model.hpp"
+#include "hapticgrasp/geometry/sample_parts.hpp"
+#include "test_shapes.hpp"
+
+namespace hg::geometry {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+constexpr double kPi = std::numbers::pi;
+
+// ---------------------------------------------------------------------------------------
+// Helpers
+
+// Runs `load`, which must throw a GeometryError whose message contains `what`.
+template <class Load>
+void expectGeometryError(Load&& load, const std::string& what) {
+  try {
+    load();
+    ADD_FAILURE() << "loaded without error; expected a GeometryError naming \"" << what << "\"";
+  } catch (const GeometryError& e) {
+    EXPECT_THAT(e.what(), HasSubstr(what));
+  }
+}
+
+std::string brepText(const TopoDS_Shape& shape) {
+  std::ostringstream out;
+  BRepTools::Write(shape, out);
+  return out.str();
+}
+
+TopoDS_Shape boxShape(double x, double y, double z) {
+  return BRepPrimAPI_MakeBox(gp_Pnt(-x / 2, -y / 2, -z / 2), x, y, z).Shape();
+}
+
+TopoDS_Shape cylinderShape(double radius, double length) {
+  return BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, -length / 2), gp::DZ()), radius, length).Shape();
+}
+
+TopoDS_Shape transformed(const TopoDS_Shape& shape, const gp_Trsf& trsf) {
+  return BRepBuilderAPI_Transform(shape, trsf, true).Shape();
+}
+
+TopoDS_Shape scaled(const TopoDS_Shape& shape, double factor) {
+  gp_Trsf trsf;
+  trsf.SetScale(gp::Origin(), factor);
+  return transformed(shape, trsf);
+}
+
+TopoDS_Compound compoundOf(std::initializer_list<TopoDS_Shape> shapes) {
+  TopoDS_Compound compound;
+  BRep_Builder builder;
+  builder.MakeCompound(compound);
+  for (const TopoDS_Shape& s : shapes) builder.Add(compound, s);
+  return compound;
+}
+
+// A scratch directory for the files the tests write, removed at exit.
+class TempDir {
+ public:
+  TempDir() : path_(fs::temp_directory_path() / ("hg_test_part_model_" + std::to_string(::getpid()))) {
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ignored;
+    fs::remove_all(path_, ignored);
+  }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+const fs::path& tempDir() {
+  static const TempDir dir;
+  return dir.path();
+}
+
+fs::path writeFile(const std::string& name, const std::string& content) {
+  const fs::path path = tempDir() / name;
+  std::ofstream(path, std::ios::binary) << content;
+  return path;
+}
+
+std::string readFile(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+fs::path writeStep(const TopoDS_Shape& shape, const std::string& name) {
+  const fs::path path = tempDir() / name;
+  STEPControl_Writer writer;
+  if (writer.Transfer(shape, STEPControl_AsIs) != IFSelect_RetDone || writer.Write(path.c_str()) != IFSelect_RetDone)
+    throw std::runtime_error("could not write " + path.string());
+  return path;
+}
+
+// |a - b| <= tol * scale, elementwise, with a message naming the element.
+void expectNearMatrix(const Mat3& a, const Mat3& b, double tol, const char* what) {
+  const double scale = std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff());
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(a(r, c), b(r, c), tol * scale) << what << " (" << r << "," << c << ")";
+}
+
+void expectNearVec(const Vec3& a, const Vec3& b, double tol, const char* what) {
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(a[i], b[i], tol) << what << " [" << i << "]";
+}
+
+double smallestEigenvalue(const Mat3& symmetric) {
+  return Eigen::SelfAdjointEigenSolver<Mat3>(symmetric).eigenvalues().minCoeff();
+}
+
+// Inertia of a uniform box of mass m about its centre, axes along its edges.
+Mat3 boxInertia(double m, double a, double b, double c) {
+  return Vec3(m / 12 * (b * b + c * c), m / 12 * (a * a + c * c), m / 12 * (a * a + b * b)).asDiagonal();
+}
+
+// ---------------------------------------------------------------------------------------
+// Bad input: a GeometryError naming the problem, never a crash.
+
+TEST(PartModelBadInput, EmptyBrepText) {
+  expectGeometryError([] { PartModel::fromBrepText("", LengthUnit::Millimetre); }, "empty BREP text");
+}
+
+TEST(PartModelBadInput, WhitespaceOnlyBrepText) {
+  expectGeometryError([] { PartModel::fromBrepText(" \n\t\r\n  ", LengthUnit::Millimetre); }, "empty BREP text");
+}
+
+TEST(PartModelBadInput, GarbageBrepText) {
+  expectGeometryError([] { PartModel::fromBrepText("this is not a B-rep\n42 17\n", LengthUnit::Millimetre); },
+                      "BREP text could not be read");
+}
+
+TEST(PartModelBadInput, TruncatedBrepText) {
+  const std::string text = brepText(cylinderShape(50, 400));
+  for (const std::size_t length : {text.size() / 2, text.size() / 4, text.size() * 3 / 4, text.size() - 20}) {
+    SCOPED_TRACE("truncated to " + std::to_string(length) + " of " + std::to_string(text.size()) + " characters");
+    expectGeometryError([&] { PartModel::fromBrepText(text.substr(0, length), LengthUnit::Millimetre); },
+                        "BREP text could not be read");
+  }
+}
+
+TEST(PartModelBadInput, MissingFile) {
+  expectGeometryError([] { PartModel::fromFile(tempDir() / "no_such_part.brep", LengthUnit::Millimetre); },
+                      "no such file");
+}
+
+TEST(PartModelBadInput, Directory) {
+  expectGeometryError([] { PartModel::fromFile(tempDir(), LengthUnit::Millimetre); }, "no such file");
+}
+
+TEST(PartModelBadInput, EmptyFile) {
+  expectGeometryError([] { PartModel::fromFile(writeFile("empty.brep", ""), LengthUnit::Millimetre); }, "empty file");
+  expectGeometryError([] { PartModel::fromFile(writeFile("empty.step", ""), LengthUnit::Millimetre); }, "empty file");
+}
+
+TEST(PartModelBadInput, UnknownExtension) {
+  const fs::path path = writeFile("cylinder.stl", brepText(cylinderShape(50, 400)));
+  expectGeometryError([&] { PartModel::fromFile(path, LengthUnit::Millimetre); }, "unknown part file type '.stl'");
+  const fs::path none = writeFile("cylinder", brepText(cylinderShape(50, 400)));
+  expectGeometryError([&] { PartModel::fromFile(none, LengthUnit::Millimetre); }, "unknown part file type");
+}
+
+TEST(PartModelBadInput, UpperCaseExtensionIsAccepted) {
+  const fs::path path = writeFile("cylinder.BREP", brepText(cylinderShape(50, 400)));
+  EXPECT_NEAR(PartModel::fromFile(path, LengthUnit::Millimetre)->massProperties(MassSpec::density(1)).volume_m3,
+              kPi * 0.05 * 0.05 * 0.4, 1e-12);
+}
+
+TEST(PartModelBadInput, GarbageBrepFile) {
+  const fs::path path = writeFile("garbage.brep", "CASCADE Topology V1, (c) Matra-Datavision\nLocations 3\nbroken");
+  expectGeometryError([&] { PartModel::fromFile(path, LengthUnit::Millimetre); }, "could not be read: truncated, or not BREP");
+}
+
+TEST(PartModelBadInput, TruncatedBrepFile) {
+  const std::string text = brepText(cylinderShape(50, 400));
+  const fs::path path = writeFile("truncated.brep", text.substr(0, text.size() / 2));
+  expectGeometryError([&] { PartModel::fromFile(path, LengthUnit::Millimetre); }, "could not be read");
+}
+
+TEST(PartModelBadInput, GarbageStepFile) {
+  const fs::path path = writeFile("garbage.step", "this is not STEP\nat all\n");
+  expectGeometryError([&] { PartModel::fromFile(path, LengthUnit::Millimetre); }, "STEP file could not be read");
+}
+
+TEST(PartModelBadInput, TruncatedStepFile) {
+  const std::string text = readFile(writeStep(cylinderShape(50, 400), "whole.step"));
+  ASSERT_GT(text.size(), 1000u);
+  const fs::path path = writeFile("truncated.step", text.substr(0, text.size() / 2));
+  expectGeometryError([&] { PartModel::fromFile(path, LengthUnit::Millimetre); }, "STEP file could not be read");
+}
+
+TEST(PartModelBadInput, NullShape) {
+  expectGeometryError([] { PartModel::fromShape(TopoDS_Shape(), LengthUnit::Millimetre); }, "empty shape");
+}
+
+TEST(PartModelBadInput, OnlyAFace) {
+  const TopoDS_Face face = BRepBuilderAPI_MakeFace(gp_Pln(gp::XOY()), -10, 10, -10, 10).Face();
+  expectGeometryError([&] { PartModel::fromShape(face, LengthUnit::Millimetre); },
+                      "not a solid: the shape is a face");
+  // The same as BREP text.
+  expectGeometryError([&] { PartModel::fromBrepText(brepText(face), LengthUnit::Millimetre); }, "not a solid");
+}
+
+TEST(PartModelBadInput, OnlyAWireOrAnEdge) {
+  const TopoDS_Edge edge = BRepBuilderAPI_MakeEdge(gp_Pnt(0, 0, 0), gp_Pnt(10, 0, 0)).Edge();
+  expectGeometryError([&] { PartModel::fromShape(edge, LengthUnit::Millimetre); }, "not a solid: the shape is an edge");
+  const TopoDS_Wire wire = BRepBuilderAPI_MakeWire(edge).Wire();
+  expectGeometryError([&] { PartModel::fromShape(wire, LengthUnit::Millimetre); }, "not a solid: the shape is a wire");
+  expectGeometryError([&] { PartModel::fromShape(BRepBuilderAPI_MakeVertex(gp::Origin()).Vertex(), LengthUnit::Millimetre); },
+                      "not a solid");
+}
+
+TEST(PartModelBadInput, OpenShell) {
+  // A box's shell without its top face.
+  const TopoDS_Shape box = boxShape(10, 20, 30);
+  TopoDS_Shell shell;
+  BRep_Builder builder;
+  builder.MakeShell(shell);
+  int faces = 0;
+  for (TopExp_Explorer ex(box, TopAbs_FACE); ex.More(); ex.Next(), ++faces)
+    if (faces != 5) builder.Add(shell, ex.Current());
+  ASSERT_EQ(faces, 6);
+  expectGeometryError([&] { PartModel::fromShape(shell, LengthUnit::Millimetre); }, "open shell with 4 free edges");
+  // As a "solid" made of it.
+  TopoDS_Solid solid;
+  builder.MakeSolid(solid);
+  builder.Add(solid, shell);
+  expectGeometryError([&] { PartModel::fromShape(solid, LengthUnit::Millimetre); }, "not a closed solid: 4 free edges");
+}
+
+TEST(PartModelBadInput, ClosedShellIsMadeASolid) {
+  TopoDS_Shell shell;
+  for (TopExp_Explorer ex(boxShape(10, 20, 30), TopAbs_SHELL); ex.More(); ex.Next()) shell = TopoDS::Shell(ex.Current());
+  const PartModelPtr part = PartModel::fromShape(shell, LengthUnit::Millimetre);
+  EXPECT_NEAR(part->massProperties(MassSpec::density(1)).volume_m3, 6000e-9, 1e-15);
+  ASSERT_EQ(part->warnings().size(), 1u);
+  EXPECT_THAT(part->warnings()[0], HasSubstr("closed shell"));
+}
+
+TEST(PartModelBadInput, OverlappingBoxesInACompound) {
+  const TopoDS_Shape a = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 10).Shape();
+  const TopoDS_Shape b = BRepPrimAPI_MakeBox(gp_Pnt(5, 5, 5), 10, 10, 10).Shape();
+  expectGeometryError([&] { PartModel::fromShape(compoundOf({a, b}), LengthUnit::Millimetre); },
+                      "self-intersecting shape");
+}
+
+TEST(PartModelBadInput, BoxInsideABox) {
+  // Boundaries apart: only a containment test finds it.
+  const TopoDS_Shape outer = boxShape(20, 20, 20);
+  const TopoDS_Shape inner = boxShape(2, 2, 2);
+  expectGeometryError([&] { PartModel::fromShape(compoundOf({outer, inner}), LengthUnit::Millimetre); },
+                      "self-intersecting shape: solid 2 is inside solid 1");
+  expectGeometryError([&] { PartModel::fromShape(compoundOf({inner, outer}), LengthUnit::Millimetre); },
+                      "self-intersecting shape: solid 1 is inside solid 2");
+  // Also when the outer one is inside out (it is turned before the test).
+  expectGeometryError([&] { PartModel::fromShape(compoundOf({outer.Reversed(), inner}), LengthUnit::Millimetre); },
+                      "self-intersecting shape: solid 2 is inside solid 1");
+}
+
+// A sphere poking through the top of a slab: the faces meet in a circle inside both, and
+// no edge of either crosses the other (the sphere's seam and poles stay below the slab's
+// top face). Only a face/face intersection finds it.
+TopoDS_Shape sphereThroughSlab() {
+  const TopoDS_Shape sphere = BRepPrimAPI_MakeSphere(gp_Ax2(gp::Origin(), gp::DX(), -gp::DY()), 5).Shape();
+  const TopoDS_Shape slab = BRepPrimAPI_MakeBox(gp_Pnt(-20, -20, -20), 40, 40, 23).Shape();
+  return compoundOf({sphere, slab});
+}
+
+TEST(PartModelBadInput, FacesCrossingInAClosedLoopBetweenSolids) {
+  expectGeometryError([] { PartModel::fromShape(sphereThroughSlab(), LengthUnit::Millimetre); },
+                      "self-intersecting shape: faces");
+}
+
+// A square prism whose top is turned by `twist` against its bottom, the sides split into
+// planar triangles and sewn into one solid. Turned far enough, the sides cross each other.
+TopoDS_Shape twistedPrism(double twist) {
+  const int n = 4;
+  const double radius = 10, height = 3;
+  std::vector<gp_Pnt> bottom, top;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * kPi * i / n;
+    bottom.emplace_back(radius * std::cos(a), radius * std::sin(a), 0);
+    top.emplace_back(radius * std::cos(a + twist), radius * std::sin(a + twist), height);
+  }
+  BRepBuilderAPI_Sewing sewing;
+  auto face = [&](BRepBuilderAPI_MakePolygon polygon) { sewing.Add(BRepBuilderAPI_MakeFace(polygon.Wire()).Face()); };
+  BRepBuilderAPI_MakePolygon bottomCap, topCap;
+  for (int i = n - 1; i >= 0; --i) bottomCap.Add(bottom[i]);
+  for (int i = 0; i < n; ++i) topCap.Add(top[i]);
+  bottomCap.Close();
+  topCap.Close();
+  face(bottomCap);
+  face(topCap);
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1) % n;
+    face(BRepBuilderAPI_MakePolygon(bottom[i], bottom[j], top[j], true));
+    face(BRepBuilderAPI_MakePolygon(bottom[i], top[j], top[i], true));
+  }
+  sewing.Perform();
+  TopoDS_Solid solid;
+  BRep_Builder builder;
+  builder.MakeSolid(solid);
+  for (TopExp_Explorer ex(sewing.SewedShape(), TopAbs_SHELL); ex.More(); ex.Next()) builder.Add(solid, ex.Current());
+  return solid;
+}
+
+TEST(PartModelBadInput, FacesCrossingWithinOneSolid) {
+  const PartModelPtr mild = PartModel::fromShape(twistedPrism(kPi / 3), LengthUnit::Millimetre);
+  EXPECT_EQ(mild->faces().Extent(), 10);
+  EXPECT_GT(mild->massProperties(MassSpec::density(1)).volume_m3, 0);
+  expectGeometryError([] { PartModel::fromShape(twistedPrism(kPi * 5 / 6), LengthUnit::Millimetre); },
+                      "self-intersecting shape");
+}
+
+TEST(PartModelBadInput, SelfIntersectionCheckCanBeSkipped) {
+  PartModel::LoadOptions options;
+  options.checkSelfIntersection = false;
+  const TopoDS_Shape a = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 10).Shape();
+  const TopoDS_Shape b = BRepPrimAPI_MakeBox(gp_Pnt(5, 5, 5), 10, 10, 10).Shape();
+  EXPECT_NO_THROW(PartModel::fromShape(compoundOf({a, b}), LengthUnit::Millimetre, "boxes", options));
+  // The other checks still run.
+  const TopoDS_Edge edge = BRepBuilderAPI_MakeEdge(gp_Pnt(0, 0, 0), gp_Pnt(10, 0, 0)).Edge();
+  expectGeometryError([&] { PartModel::fromShape(edge, LengthUnit::Millimetre, "edge", options); }, "not a solid");
+}
+
+TEST(PartModelBadInput, ZeroVolumeSolid) {
+  // A closed shell of two squares on one boundary: every edge has two faces, no volume.
+  const TopoDS_Wire square =
+      BRepBuilderAPI_MakePolygon(gp_Pnt(0, 0, 0), gp_Pnt(10, 0, 0), gp_Pnt(10, 10, 0), gp_Pnt(0, 10, 0), true).Wire();
+  const TopoDS_Face a = BRepBuilderAPI_MakeFace(gp_Pln(gp::XOY()), square).Face();
+  const TopoDS_Face b = BRepBuilderAPI_MakeFace(gp_Pln(gp::XOY()), square).Face();
+  TopoDS_Shell shell;
+  BRep_Builder builder;
+  builder.MakeShell(shell);
+  builder.Add(shell, a);
+  builder.Add(shell, b.Reversed());
+  TopoDS_Solid solid;
+  builder.MakeSolid(solid);
+  builder.Add(solid, shell);
+  expectGeometryError([&] { PartModel::fromShape(solid, LengthUnit::Millimetre); },
+                      "self-intersecting shape: faces 1 and 2 overlap");
+  PartModel::LoadOptions unchecked;
+  unchecked.checkSelfIntersection = false;
+  expectGeometryError([&] { PartModel::fromShape(solid, LengthUnit::Millimetre, "flat", unchecked); },
+                      "solid has no volume");
+  // One face twice is an open shell.
+  TopoDS_Shell twice;
+  builder.MakeShell(twice);
+  builder.Add(twice, a);
+  builder.Add(twice, a.Reversed());
+  expectGeometryError([&] { PartModel::fromShape(twice, LengthUnit::Millimetre); }, "open shell");
+}
+
+TEST(PartModelBadInput, FaceUsedThreeTimes) {
+  // A box with its top face doubled: three faces on each top edge.
+  const TopoDS_Shape box = boxShape(10, 10, 10);
+  TopoDS_Shell shell;
+  BRep_Builder builder;
+  builder.MakeShell(shell);
+  TopoDS_Face last;
+  for (TopExp_Explorer ex(box, TopAbs_FACE); ex.More(); ex.Next()) {
+    builder.Add(shell, ex.Current());
+    last = TopoDS::Face(ex.Current());
+  }
+  TopoDS_Face copy = TopoDS::Face(last.EmptyCopied());
+  for (TopExp_Explorer ex(last, TopAbs_WIRE); ex.More(); ex.Next()) builder.Add(copy, ex.Current());
+  builder.Add(shell, copy.Reversed());
+  TopoDS_Solid solid;
+  builder.MakeSolid(solid);
+  builder.Add(solid, shell);
+  expectGeometryError([&] { PartModel::fromShape(solid, LengthUnit::Millimetre); },
+                      "invalid B-rep: shell 1 in solid 1: BRepCheck_InvalidMultiConnexity");
+}
+
+TEST(PartModelBadInput, InsideOutSolidIsReversedWithAWarning) {
+  const TopoDS_Shape box = boxShape(100, 60, 30).Reversed();
+  const PartModelPtr part = PartModel::fromShape(box, LengthUnit::Millimetre, "reversed box");
+  ASSERT_EQ(part->warnings().size(), 1u);
+  EXPECT_THAT(part->warnings()[0], HasSubstr("inside out"));
+  const MassProperties m = part->massProperties(MassSpec::density(1000));
+  EXPECT_NEAR(m.volume_m3, 0.1 * 0.06 * 0.03, 1e-15);
+  expectNearMatrix(m.inertia_kgm2, boxInertia(m.mass_kg, 0.1, 0.06, 0.03), 1e-12, "inertia");
+  EXPECT_TRUE(hg::test::boxPart()->warnings().empty());
+}
+
+// The signed volume enclosed by a mesh: positive when its triangles face outwards.
+double signedMeshVolume(const Tessellation& mesh) {
+  double v = 0;
+  for (const auto& t : mesh.triangles) v += mesh.vertices[t[0]].dot(mesh.vertices[t[1]].cross(mesh.vertices[t[2]])) / 6;
+  return v;
+}
+
+TEST(PartModelBadInput, InsideOutSolidTessellatesOutwards) {
+  for (const bool reversed : {false, true}) {
+    SCOPED_TRACE(reversed ? "reversed" : "as built");
+    const TopoDS_Shape box = boxShape(100, 60, 30);
+    const PartModelPtr part = PartModel::fromShape(reversed ? box.Reversed() : box, LengthUnit::Millimetre);
+    const Tessellation mesh = tessellate(*part, 1e-4);
+    EXPECT_NEAR(signedMeshVolume(mesh), 0.1 * 0.06 * 0.03, 1e-12);
+  }
+}
+
+TEST(PartModelBadInput, InsideOutSolidInACompound) {
+  const TopoDS_Shape a = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 10).Shape();
+  const TopoDS_Shape b = BRepPrimAPI_MakeBox(gp_Pnt(20, 0, 0), 10, 10, 10).Shape().Reversed();
+  const PartModelPtr part = PartModel::fromShape(compoundOf({a, b}), LengthUnit::Millimetre);
+  ASSERT_EQ(part->warnings().size(), 1u);
+  EXPECT_THAT(part->warnings()[0], HasSubstr("1 of 2 solids were inside out"));
+  const MassProperties m = part->massProperties(MassSpec::density(1));
+  EXPECT_NEAR(m.volume_m3, 2000e-9, 1e-15);
+  expectNearVec(m.centre_m, Vec3(0.015, 0.005, 0.005), 1e-15, "centre");
+}
+
+// ---------------------------------------------------------------------------------------
+// Units
+
+void expectSameBounds(const Aabb& a, const Aabb& b, double relTol) {
+  const double tol = relTol * std::max(a.diagonal(), b.diagonal());
+  expectNearVec(a.min, b.min, tol, "bounds min");
+  expectNearVec(a.max, b.max, tol, "bounds max");
+}
+
+void expectSameMass(const MassProperties& a, const MassProperties& b, double relTol) {
+  EXPECT_NEAR(a.volume_m3, b.volume_m3, relTol * b.volume_m3);
+  EXPECT_NEAR(a.mass_kg, b.mass_kg, relTol * b.mass_kg);
+  expectNearVec(a.centre_m, b.centre_m, relTol * std::cbrt(b.volume_m3), "centre");
+  expectNearMatrix(a.inertia_kgm2, b.inertia_kgm2, relTol, "inertia");
+}
+
+TEST(PartModelUnits, MillimetreAndMetreBrepTextAgree) {
+  // Off-centre, so that the centre and bounds are not all zero.
+  gp_Trsf move;
+  move.SetTranslation(gp_Vec(30, -20, 10));
+  const TopoDS_Shape mm = transformed(cylinderShape(50, 400), move);
+  const TopoDS_Shape m = scaled(mm, 0.001);
+  const PartModelPtr inMm = PartModel::fromBrepText(brepText(mm), LengthUnit::Millimetre, "mm");
+  const PartModelPtr inM = PartModel::fromBrepText(brepText(m), LengthUnit::Metre, "m");
+  EXPECT_EQ(inMm->metresPerUnit(), 1e-3);
+  EXPECT_EQ(inM->metresPerUnit(), 1.0);
+  expectSameBounds(inMm->bounds(), inM->bounds(), 1e-12);
+  expectNearVec(inM->bounds().min, Vec3(-0.02, -0.07, -0.19), 1e-9, "bounds min");
+  expectNearVec(inM->bounds().max, Vec3(0.08, 0.03, 0.21), 1e-9, "bounds max");
+  for (const MassSpec spec : {MassSpec::mass(2.0), MassSpec::density(7850)})
+    expectSameMass(inMm->massProperties(spec), inM->massProperties(spec), 1e-12);
+  EXPECT_NEAR(inM->massProperties(MassSpec::density(1)).volume_m3, kPi * 0.05 * 0.05 * 0.4, 1e-15);
+  expectNearVec(inMm->massProperties(MassSpec::mass(2)).centre_m, Vec3(0.03, -0.02, 0.01), 1e-12, "centre");
+  // The primitive is in metres too.
+  EXPECT_EQ(inMm->primitive().kind, Primitive::Kind::Cylinder);
+  EXPECT_EQ(inM->primitive().kind, Primitive::Kind::Cylinder);
+  EXPECT_NEAR(inMm->primitive().radius, 0.05, 1e-12);
+  EXPECT_NEAR(inM->primitive().radius, 0.05, 1e-12);
+}
+
+TEST(PartModelUnits, StepRoundTrip) {
+  const TopoDS_Shape cylinder = cylinderShape(50, 400);
+  const PartModelPtr original = PartModel::fromShape(cylinder, LengthUnit::Millimetre);
+  const PartModelPtr fromStep = PartModel::fromFile(writeStep(cylinder, "cylinder.step"), LengthUnit::Millimetre);
+  const double v0 = original->massProperties(MassSpec::density(1)).volume_m3;
+  EXPECT_NEAR(fromStep->massProperties(MassSpec::density(1)).volume_m3, v0, 1e-9 * v0);
+  EXPECT_NEAR(v0, kPi * 0.05 * 0.05 * 0.4, 1e-15);
+  expectSameBounds(original->bounds(), fromStep->bounds(), 1e-9);
+  EXPECT_EQ(fromStep->name(), "cylinder");
+}
+
+TEST(PartModelUnits, StepFileInMetresIsReadInItsUnit) {
+  // A STEP file says its unit: written in metres, read back in the same metres, whatever
+  // unit the caller passes.
+  const TopoDS_Shape box = boxShape(100, 60, 30);
+  Interface_Static::SetCVal("write.step.unit", "M");
+  const fs::path path = writeStep(box, "box_in_m.step");
+  Interface_Static::SetCVal("write.step.unit", "MM");
+  ASSERT_THAT(readFile(path), HasSubstr(".METRE."));
+  for (const LengthUnit unit : {LengthUnit::Millimetre, LengthUnit::Metre}) {
+    const PartModelPtr part = PartModel::fromFile(path, unit);
+    EXPECT_NEAR(part->massProperties(MassSpec::density(1)).volume_m3, 0.1 * 0.06 * 0.03, 1e-12);
+    expectNearVec(part->bounds().max, Vec3(0.05, 0.03, 0.015), 1e-9, "bounds max");
+  }
+}
+
+TEST(PartModelUnits, TinyAndHugeParts) {
+  struct Case {
+    const char* what;
+    double size;  // in `unit`
+    LengthUnit unit;
+    double size_m;
+  };
+  for (const Case& c : {Case{"1 mm cube in mm", 1, LengthUnit::Millimetre, 1e-3},
+                        Case{"1 mm cube in m", 1e-3, LengthUnit::Metre, 1e-3},
+                        Case{"10 m cube in mm", 1e4, LengthUnit::Millimetre, 10},
+                        Case{"10 m cube in m", 10, LengthUnit::Metre, 10}}) {
+    SCOPED_TRACE(c.what);
+    const PartModelPtr box = PartModel::fromShape(boxShape(c.size, c.size / 2, c.size / 4), c.unit);
+    EXPECT_NEAR(box->massProperties(MassSpec::density(1)).volume_m3, std::pow(c.size_m, 3) / 8, 1e-12 * std::pow(c.size_m, 3));
+    EXPECT_NEAR(box->bounds().diagonal(), c.size_m * std::sqrt(1 + 0.25 + 0.0625), 1e-9 * c.size_m);
+    EXPECT_EQ(box->primitive().kind, Primitive::Kind::Box);
+    const PartModelPtr cylinder = PartModel::fromShape(cylinderShape(c.size / 2, c.size), c.unit);
+    const double r = c.size_m / 2;
+    EXPECT_NEAR(cylinder->massProperties(MassSpec::density(1)).volume_m3, kPi * r * r * c.size_m,
+                1e-12 * std::pow(c.size_m, 3));
+  }
+}
+
+TEST(PartModelUnits, ParseLengthUnit) {
+  EXPECT_EQ(parseLengthUnit("mm"), LengthUnit::Millimetre);
+  EXPECT_EQ(parseLengthUnit("m"), LengthUnit::Metre);
+  expectGeometryError([] { parseLengthUnit("inch"); }, "inch");
+}
+
+// ---------------------------------------------------------------------------------------
+// Mass properties
+
+TEST(PartModelMass, BoxClosedForm) {
+  const double a = 0.1, b = 0.06, c = 0.03, rho = 2700;
+  const MassProperties m = hg::test::boxPart(100, 60, 30)->massProperties(MassSpec::density(rho));
+  EXPECT_NEAR(m.volume_m3, a * b * c, 1e-15);
+  EXPECT_NEAR(m.mass_kg, rho * a * b * c, 1e-12);
+  expectNearVec(m.centre_m, Vec3::Zero(), 1e-15, "centre");
+  expectNearMatrix(m.inertia_kgm2, boxInertia(m.mass_kg, a, b, c), 1e-12, "inertia");
+}
+
+TEST(PartModelMass, CylinderClosedForm) {
+  const double r = 0.05, h = 0.4;
+  const MassProperties m = hg::test::cylinderPart(100, 400)->massProperties(MassSpec::mass(2.0));
+  EXPECT_NEAR(m.volume_m3, kPi * r * r * h, 1e-15);
+  EXPECT_DOUBLE_EQ(m.mass_kg, 2.0);
+  expectNearVec(m.centre_m, Vec3::Zero(), 1e-15, "centre");
+  const Mat3 expected = Vec3(2.0 / 12 * (3 * r * r + h * h), 2.0 / 12 * (3 * r * r + h * h), 2.0 / 2 * r * r).asDiagonal();
+  expectNearMatrix(m.inertia_kgm2, expected, 1e-12, "inertia");
+}
+
+TEST(PartModelMass, MovedBoxInertiaIsRotatedAboutItsCentre) {
+  const double a = 0.1, b = 0.06, c = 0.03, rho = 1000;
+  gp_Trsf trsf;
+  const gp_Quaternion q(gp_Vec(1, 2, 3).Normalized(), 0.7);
+  trsf.SetRotation(q);
+  trsf.SetTranslationPart(gp_Vec(120, -40, 75));  // mm
+  const PartModelPtr part = PartModel::fromShape(transformed(boxShape(100, 60, 30), trsf), LengthUnit::Millimetre);
+  const MassProperties m = part->massProperties(MassSpec::density(rho));
+  EXPECT_NEAR(m.volume_m3, a * b * c, 1e-15);
+  expectNearVec(m.centre_m, Vec3(0.12, -0.04, 0.075), 1e-14, "centre");
+  Mat3 R;
+  const gp_Mat qm = q.GetMatrix();
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) R(i, j) = qm(i + 1, j + 1);
+  const Mat3 expected = R * boxInertia(rho * a * b * c, a, b, c) * R.transpose();
+  expectNearMatrix(m.inertia_kgm2, expected, 1e-12, "inertia");
+  EXPECT_GT(std::abs(expected(0, 1)), 1e-3 * expected.maxCoeff());  // a real test of the products of inertia
+  EXPECT_LT((m.inertia_kgm2 - m.inertia_kgm2.transpose()).norm(), 1e-15);
+  // Still recognised as a box, in metres, in its own axes.
+  const Primitive& box = part->primitive();
+  ASSERT_EQ(box.kind, Primitive::Kind::Box);
+  expectNearVec(box.centre, Vec3(0.12, -0.04, 0.075), 1e-12, "box centre");
+  EXPECT_NEAR(box.halfExtents.prod(), a * b * c / 8, 1e-15);
+  EXPECT_NEAR(box.axes.determinant(), 1.0, 1e-12);
+  // The box's axes are the rotated x, y, z, in some order and sense.
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR((R.transpose() * box.axes.col(k)).cwiseAbs().maxCoeff(), 1.0, 1e-12);
+}
+
+TEST(PartModelMass, MassAndDensityAgree) {
+  const PartModelPtr part = hg::test::drilledBlockPart();
+  const MassProperties byDensity = part->massProperties(MassSpec::density(2700));
+  const MassProperties byMass = part->massProperties(MassSpec::mass(byDensity.mass_kg));
+  expectSameMass(byMass, byDensity, 1e-12);
+  // Inertia scales with the mass, the rest does not move.
+  const MassProperties doubled = part->massProperties(MassSpec::mass(2 * byDensity.mass_kg));
+  EXPECT_DOUBLE_EQ(doubled.volume_m3, byDensity.volume_m3);
+  expectNearVec(doubled.centre_m, byDensity.centre_m, 1e-15, "centre");
+  expectNearMatrix(doubled.inertia_kgm2, 2 * byDensity.inertia_kgm2, 1e-12, "inertia");
+  // A hole makes it lighter than its box, and the inertia is positive definite.
+  EXPECT_LT(byDensity.volume_m3, 0.1 * 0.06 * 0.03);
+  EXPECT_GT(smallestEigenvalue(byDensity.inertia_kgm2), 0);
+}
+
+TEST(PartModelMass, NonPositiveMassOrDensityThrows) {
+  const PartModelPtr part = hg::test::boxPart();
+  for (const double value : {0.0, -1.0, -0.0, std::numeric_limits<double>::quiet_NaN()}) {
+    SCOPED_TRACE(value);
+    expectGeometryError([&] { part->massProperties(MassSpec::mass(value)); }, "must be positive");
+    expectGeometryError([&] { part->massProperties(MassSpec::density(value)); }, "must be positive");
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// Shapes from the other tests' builders and the sample parts
+
+TEST(PartModelShapes, TestShapesLoad) {
+  EXPECT_EQ(hg::test::spherePart(40)->primitive().kind, Primitive::Kind::Sphere);
+  EXPECT_EQ(hg::test::boxPart()->primitive().kind, Primitive::Kind::Box);
+  EXPECT_EQ(hg::test::cylinderPart()->primitive().kind, Primitive::Kind::Cylinder);
+  EXPECT_EQ(hg::test::drilledBlockPart()->primitive().kind, Primitive::Kind::None);
+  const PartModelPtr loft = hg::test::loftPart();
+  EXPECT_EQ(loft->faces().Extent(), 3);
+  EXPECT_GT(loft->massProperties(MassSpec::density(1)).volume_m3, 0);
+}
+
+TEST(PartModelShapes, SamplePartsLoad) {
+  const std::vector<SamplePart> parts = sampleParts();
+  ASSERT_EQ(parts.size(), 4u);
+  for (const SamplePart& sample : parts) {
+    SCOPED_TRACE(sample.name);
+    const PartModelPtr part = PartModel::fromFile(sample.file, sample.unit);  // the plate once: it is the slow one
+    EXPECT_EQ(part->name(), sample.name);
+    EXPECT_TRUE(part->warnings().empty());
+    EXPECT_GT(part->faces().Extent(), 0);
+    EXPECT_FALSE(part->bounds().empty());
+    const MassProperties m = part->massProperties(sample.mass);
+    EXPECT_GT(m.volume_m3, 0);
+    EXPECT_GT(m.mass_kg, 0);
+    EXPECT_TRUE(part->bounds().contains(m.centre_m));
+    EXPECT_GT(smallestEigenvalue(m.inertia_kgm2), 0);
+    if (sample.name == "cylinder") {
+      EXPECT_EQ(part->faces().Extent(), 3);
+      EXPECT_NEAR(m.volume_m3, kPi * 0.05 * 0.05 * 0.4, 1e-15);
+      EXPECT_DOUBLE_EQ(m.mass_kg, 2.0);
+    } else if (sample.name == "block") {
+      EXPECT_EQ(part->faces().Extent(), 58);
+    } else if (sample.name == "loft") {
+      EXPECT_EQ(part->faces().Extent(), 3);
+    } else if (sample.name == "plate") {
+      EXPECT_EQ(part->faces().Extent(), 1030);
+      EXPECT_NEAR(m.volume_m3, (200 * 200 * 5 - 1024 * kPi * 1.5 * 1.5 * 5) * 1e-9, 1e-15);
+      expectNearVec(m.centre_m, Vec3(0, 0, 0.0025), 1e-12, "centre");
+    } else {
+      ADD_FAILURE() << "unknown sample part";
+    }
+  }
+}
+
+}  // namespace
+}  // namespace hg::geometry
