@@ -1,0 +1,25 @@
+#pragma once
+// One reading of the operator's hand, absolute frame, SI: what the master arm's joint
+// angles give through its kinematics (the first paper's x_i^a, x_t^a, x_w^a, xi_w^a).
+#include <cmath>
+
+#include "hapticgrasp/math/types.hpp"
+
+namespace hg::grasp {
+
+struct HandSample {
+  double t = 0;                          // s; for the record (step() is given dt)
+  Vec3 index = Vec3::Zero();             // x_i^a, tip of the index finger
+  Vec3 thumb = Vec3::Zero();             // x_t^a, tip of the thumb
+  Vec3 wrist = Vec3::Zero();             // x_w^a
+  // Wrist -> absolute (the paper's xi_w^a). The grasp uses it only when the fingertips and
+  // the wrist give no frame of their own at the moment of grasping (eqs 16-17 degenerate).
+  Mat3 wristRotation = Mat3::Identity();
+
+  bool finite() const {
+    return std::isfinite(t) && index.allFinite() && thumb.allFinite() && wrist.allFinite() &&
+           wristRotation.allFinite();
+  }
+};
+
+}  // namespace hg::grasp
