@@ -6,6 +6,7 @@
 
 #include "hapticgrasp/geometry/backends.hpp"
 #include "hapticgrasp/geometry/sample_parts.hpp"
+#include "hapticgrasp/grasp/grasp_cylinder_experiment.hpp"
 #include "penetration_ladder.hpp"
 
 namespace {
@@ -42,9 +43,30 @@ int partInfo(const std::string& name) {
   return 0;
 }
 
-// Until the grasp demo lands: the ladder on the paper's cylinder and the machined block,
-// with fewer queries.
+// The paper's experiment on its cylinder: the transitions, as the operator would hear
+// them, and the figures the paper claims (continuity at lift, the eccentric moment).
+int graspCylinder(double rate_hz, bool json) {
+  const grasp::GraspCylinderResult r = grasp::runGraspCylinder(rate_hz);
+  if (json) {
+    std::cout << grasp::toJson(r) << std::endl;
+    return 0;
+  }
+  std::printf("grasp-cylinder: the paper's cylinder (0.1 x 0.4 m, %.3g kg) at %.0f Hz\n", r.mass_kg, r.rate_hz);
+  for (const auto& t : r.transitions)
+    std::printf("  t = %7.4f s  %-14s -> %s\n", t.t, grasp::toString(t.from), grasp::toString(t.to));
+  std::printf("  weight %.4f N; vertical wrist force jump at lift %.4f N (%.3f%% of the weight)\n", r.weight_N,
+              r.force_jump_at_lift_N, 100 * r.force_jump_at_lift_N / r.weight_N);
+  std::printf("  eccentric grasp %.3f m from the centre: moment %.4f N m, expected M g l = %.4f N m\n", r.leverArm_m,
+              r.eccentric_moment_Nm, r.expected_eccentric_moment_Nm);
+  std::printf("  largest force %.2f N\n", r.max_force_N);
+  return 0;
+}
+
+// The demonstration: the paper's grasp scenario, then the penetration ladder (fewer
+// queries) on the paper's cylinder and the machined block.
 int demo() {
+  graspCylinder(2000.0, false);
+  std::cout << std::endl;
   for (const char* name : {"cylinder", "block"}) {
     cli::LadderOptions o;
     o.part = name;
@@ -63,7 +85,7 @@ int main(int argc, char** argv) {
   CLI::App app{"HapticGrasp: feel and handle the parts of a CAD model with a haptic arm"};
   app.require_subcommand(1);
 
-  app.add_subcommand("demo", "Run the demonstration (for now: the penetration ladder on the sample parts)");
+  app.add_subcommand("demo", "Run the demonstration: the paper's grasp of the cylinder, then the penetration ladder");
 
   CLI::App* bench = app.add_subcommand("bench", "Measure speed against accuracy");
   bench->require_subcommand(1);
@@ -77,7 +99,18 @@ int main(int argc, char** argv) {
   penetration->add_option("--reference-checks", ladder.referenceChecks, "Path ticks checked against the reference")
       ->capture_default_str()->check(CLI::PositiveNumber);
   penetration->add_option("--seed", ladder.seed, "Random seed")->capture_default_str();
+  penetration->add_option("--backends", ladder.backends, "Only these back ends (exact, analytic, mesh, field)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"exact", "analytic", "mesh", "field"}));
   penetration->add_flag("--json", json, "Print JSON");
+
+  CLI::App* experiment = app.add_subcommand("experiment", "Reproduce the papers' experiments");
+  experiment->require_subcommand(1);
+  double rate_hz = 2000.0;
+  CLI::App* graspCylinderCmd =
+      experiment->add_subcommand("grasp-cylinder", "Maekawa & Hollerbach's grasp of the 2 kg cylinder (Fig. 6)");
+  graspCylinderCmd->add_option("--rate", rate_hz, "Servo rate, Hz")->capture_default_str()->check(CLI::PositiveNumber);
+  graspCylinderCmd->add_flag("--json", json, "Print JSON");
 
   CLI::App* parts = app.add_subcommand("parts", "Inspect parts");
   parts->require_subcommand(1);
@@ -90,6 +123,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("demo")) return demo();
     if (penetration->parsed()) return benchPenetration(ladder, json);
     if (info->parsed()) return partInfo(partName);
+    if (graspCylinderCmd->parsed()) return graspCylinder(rate_hz, json);
   } catch (const GeometryError& e) {
     std::cerr << "hapticgrasp: " << e.what() << std::endl;
     return 2;

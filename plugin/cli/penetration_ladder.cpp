@@ -151,6 +151,9 @@ LadderResult runPenetrationLadder(const LadderOptions& o, const std::function<vo
 
   Answers truth;
   for (const Rung& rung : rungsFor(part)) {
+    if (rung.label != "reference" && !o.backends.empty() &&
+        std::find(o.backends.begin(), o.backends.end(), rung.label) == o.backends.end())
+      continue;
     log("  " + rung.label + " ...");
     RungResult r;
     const auto t0 = Clock::now();

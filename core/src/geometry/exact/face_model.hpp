@@ -40,6 +40,8 @@ class FaceModel {
   // False when the surface's closest point lies outside the trimmed face (an edge or
   // vertex of the face is then closer) or when `bound` cannot be beaten.
   bool project(const gp_Pnt& x, bool warm, double& u, double& v, double bound, FaceFoot& foot) const noexcept;
+  // Whether (u, v) lies inside the trimmed face.
+  bool contains(double u, double v) const noexcept { return insideTrimmedFace(u, v); }
   // Outward unit normal at (u, v).
   gp_Vec normalAt(double u, double v) const noexcept;
   std::size_t memoryBytes() const noexcept;
