@@ -8,7 +8,7 @@
 
 #include "hapticgrasp/geometry/backends.hpp"
 #include "hapticgrasp/geometry/sample_parts.hpp"
-#include "hapticgrasp/geometry/tessellation.hpp"
+#include "hapticgrasp/geometry/surface_sampler.hpp"
 
 namespace hg::cli {
 namespace {
@@ -22,40 +22,6 @@ Percentiles percentiles(std::vector<double> v) {
   if (v.empty()) return {};
   std::sort(v.begin(), v.end());
   return {v[v.size() / 2], v[static_cast<std::size_t>(0.99 * (v.size() - 1))], v.back()};
-}
-
-// Random points on the surface (area-weighted on a fine tessellation), each with the
-// surface normal there.
-struct SurfaceSampler {
-  Tessellation mesh;
-  std::vector<double> cumulative;
-  explicit SurfaceSampler(const PartModel& part) : mesh(tessellate(part, 1e-4 * part.characteristicLength())) {
-    double total = 0;
-    for (const auto& t : mesh.triangles) {
-      total += (mesh.vertices[t[1]] - mesh.vertices[t[0]]).cross(mesh.vertices[t[2]] - mesh.vertices[t[0]]).norm();
-      cumulative.push_back(total);
-    }
-  }
-  std::pair<Vec3, Vec3> sample(std::mt19937& rng) const {
-    std::uniform_real_distribution<double> unit(0, 1);
-    const auto it = std::lower_bound(cumulative.begin(), cumulative.end(), unit(rng) * cumulative.back());
-    const auto& t = mesh.triangles[std::min<std::size_t>(it - cumulative.begin(), mesh.triangles.size() - 1)];
-    double a = unit(rng), b = unit(rng);
-    if (a + b > 1) a = 1 - a, b = 1 - b;
-    const Vec3& p0 = mesh.vertices[t[0]];
-    const Vec3 e1 = mesh.vertices[t[1]] - p0, e2 = mesh.vertices[t[2]] - p0;
-    return {p0 + a * e1 + b * e2, e1.cross(e2).normalized()};
-  }
-};
-
-std::vector<Vec3> shellPoints(const SurfaceSampler& sampler, const LadderOptions& o, std::mt19937& rng) {
-  std::uniform_real_distribution<double> offset(-o.shell_m, o.shell_m);
-  std::vector<Vec3> points;
-  for (int i = 0; i < o.randomQueries; ++i) {
-    const auto [p, n] = sampler.sample(rng);
-    points.push_back(p + offset(rng) * n);
-  }
-  return points;
 }
 
 // A fingertip tracing the surface: it keeps `depth_m` inside and moves `step_m` per tick
@@ -143,7 +109,7 @@ LadderResult runPenetrationLadder(const LadderOptions& o, const std::function<vo
   LadderResult result{sample.name, part->faces().Extent(), {}};
   std::mt19937 rng(o.seed);
   const SurfaceSampler sampler(*part);
-  const std::vector<Vec3> random = shellPoints(sampler, o, rng);
+  const std::vector<Vec3> random = sampler.shell(o.randomQueries, o.shell_m, rng);
   const std::vector<Vec3> path = tracePath(*makeExactPenetration(part), sampler, o, rng);
   const std::size_t checkEvery = std::max<std::size_t>(1, path.size() / std::max(1, o.referenceChecks));
   std::vector<Vec3> checked;

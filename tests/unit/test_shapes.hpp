@@ -19,7 +19,7 @@
 #include <string>
 
 #include "hapticgrasp/geometry/part_model.hpp"
-#include "hapticgrasp/geometry/tessellation.hpp"
+#include "hapticgrasp/geometry/surface_sampler.hpp"
 
 namespace hg::test {
 
@@ -69,29 +69,11 @@ inline PartModelPtr loftPart() {
   return PartModel::fromShape(loft.Shape(), LengthUnit::Millimetre, "loft");
 }
 
-// Points in a shell of +/- `shell_m` around the surface: random surface points (area
-// weighted, from a fine tessellation) moved along the normal.
+// Points in a shell of +/- `shell_m` around the surface (area-weighted surface points
+// moved along the normal).
 inline std::vector<Vec3> shellPoints(const PartModel& part, int count, double shell_m, unsigned seed = 1) {
-  const geometry::Tessellation mesh = geometry::tessellate(part, 1e-3 * part.characteristicLength());
-  std::vector<double> cumulative;
-  double total = 0;
-  for (const auto& t : mesh.triangles) {
-    total += (mesh.vertices[t[1]] - mesh.vertices[t[0]]).cross(mesh.vertices[t[2]] - mesh.vertices[t[0]]).norm();
-    cumulative.push_back(total);
-  }
   std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> unit(0, 1), offset(-shell_m, shell_m);
-  std::vector<Vec3> points;
-  for (int i = 0; i < count; ++i) {
-    const auto it = std::lower_bound(cumulative.begin(), cumulative.end(), unit(rng) * total);
-    const auto& t = mesh.triangles[std::min<std::size_t>(it - cumulative.begin(), mesh.triangles.size() - 1)];
-    double a = unit(rng), b = unit(rng);
-    if (a + b > 1) a = 1 - a, b = 1 - b;
-    const Vec3& p0 = mesh.vertices[t[0]];
-    const Vec3 e1 = mesh.vertices[t[1]] - p0, e2 = mesh.vertices[t[2]] - p0;
-    points.push_back(p0 + a * e1 + b * e2 + offset(rng) * e1.cross(e2).normalized());
-  }
-  return points;
+  return geometry::SurfaceSampler(part, 1e-3).shell(count, shell_m, rng);
 }
 
 }  // namespace hg::test
