@@ -99,6 +99,8 @@ int main(int argc, char** argv) {
   penetration->add_option("--reference-checks", ladder.referenceChecks, "Path ticks checked against the reference")
       ->capture_default_str()->check(CLI::PositiveNumber);
   penetration->add_option("--seed", ladder.seed, "Random seed")->capture_default_str();
+  penetration->add_option("--repeat", ladder.repeat, "Time each query N times, keep the fastest (a busy machine)")
+      ->capture_default_str()->check(CLI::PositiveNumber);
   penetration->add_option("--backends", ladder.backends, "Only these back ends (exact, analytic, mesh, field)")
       ->delimiter(',')
       ->check(CLI::IsMember({"exact", "analytic", "mesh", "field"}));

@@ -20,6 +20,7 @@ struct LadderOptions {
   double step_m = 5e-5;         // the path advances this much per tick
   double depth_m = 1e-3;        // and stays this deep inside the part
   unsigned seed = 1;
+  int repeat = 1;  // time each query this many times (from the same state), keep the fastest
   std::vector<std::string> backends;  // only these (reference is always run: it is the truth)
 };
 
