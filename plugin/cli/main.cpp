@@ -7,6 +7,7 @@
 #include "hapticgrasp/geometry/backends.hpp"
 #include "hapticgrasp/geometry/sample_parts.hpp"
 #include "hapticgrasp/grasp/grasp_cylinder_experiment.hpp"
+#include "device_commands.hpp"
 #include "penetration_ladder.hpp"
 
 namespace {
@@ -106,6 +107,14 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"exact", "analytic", "mesh", "field"}));
   penetration->add_flag("--json", json, "Print JSON");
 
+  CLI::App* servoBench = bench->add_subcommand("servo", "The real servo thread: a scripted hand grasps and lifts a part");
+  double servoRate = 2000.0, servoSeconds = 2.0;
+  servoBench->add_option("--rate", servoRate, "Servo rate, Hz (50-10000)")->capture_default_str();
+  servoBench->add_option("--seconds", servoSeconds, "How long to run")->capture_default_str();
+  servoBench->add_flag("--json", json, "Print JSON");
+
+  CLI::App* devices = app.add_subcommand("devices", "List HID devices and which back end or layout matches each");
+
   CLI::App* experiment = app.add_subcommand("experiment", "Reproduce the papers' experiments");
   experiment->require_subcommand(1);
   double rate_hz = 2000.0;
@@ -126,7 +135,9 @@ int main(int argc, char** argv) {
     if (penetration->parsed()) return benchPenetration(ladder, json);
     if (info->parsed()) return partInfo(partName);
     if (graspCylinderCmd->parsed()) return graspCylinder(rate_hz, json);
-  } catch (const GeometryError& e) {
+    if (servoBench->parsed()) return cli::benchServo(servoRate, servoSeconds, json);
+    if (devices->parsed()) return cli::listDevices();
+  } catch (const std::exception& e) {  // GeometryError, HidError, invalid_argument: one line
     std::cerr << "hapticgrasp: " << e.what() << std::endl;
     return 2;
   }

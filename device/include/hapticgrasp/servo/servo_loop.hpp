@@ -1,0 +1,220 @@
+#pragma once
+// The servo loop: a dedicated thread at 1-8 kHz that reads the device, steps the grasp,
+// watches the device (watchdog), observes and optionally enforces passivity, saturates the
+// command to the device's spec and writes it, then publishes a snapshot.
+//
+//   GUI thread --send(ServoCommand)--> SPSC ring --> servo thread
+//   servo thread --SeqLock<ServoSnapshot>--> any number of readers (GUI, recorder, tests)
+//
+// The tick never allocates, locks, throws or does I/O (the device's read/write are the
+// device's business; the Device contract asks the same of them).
+//
+// Timing: clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME) on absolute deadlines k*T; the
+// grasp gets the MEASURED dt; a tick that ends after its successor's deadline makes the
+// loop skip to the next deadline after now (no catching up), and each skipped tick counts
+// as an overrun. The thread asks for SCHED_FIFO and mlockall(MCL_CURRENT|MCL_FUTURE) and
+// records what it got (see scheduler()); without privilege it runs SCHED_OTHER and says so.
+//
+// Watchdog: no new sample for longer than spec().timeout_s, or a sample with NaN/Inf,
+// trips it: the grasp is reset at once (FREE, every part at its initial pose), the last
+// command is held and scaled by a gain ramping linearly from its current value to 0 in
+// ServoConfig::watchdogRamp_s (10 ms), then the device gets zero forces. The fault code and
+// time are in the snapshot (and a kWatchdogTrip event); a fresh finite sample clears it
+// (kWatchdogClear) and the gain ramps back up over the same time.
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "hapticgrasp/device/device.hpp"
+#include "hapticgrasp/grasp/grasp_parameters.hpp"
+#include "hapticgrasp/grasp/grasp_state.hpp"
+#include "hapticgrasp/grasp/hand_sample.hpp"
+#include "hapticgrasp/grasp/part_pose.hpp"
+#include "hapticgrasp/grasp/scene.hpp"
+#include "hapticgrasp/servo/passivity.hpp"
+#include "hapticgrasp/servo/seqlock.hpp"
+#include "hapticgrasp/servo/spsc_ring.hpp"
+#include "hapticgrasp/servo/timing_stats.hpp"
+
+namespace hg::grasp {
+class TwoFingerGrasp;
+}
+
+namespace hg::servo {
+
+// Returns the number of heap allocations the CALLING thread has made so far (a malloc
+// interposer's thread_local counter, e.g. tests/unit/alloc_counter.hpp or
+// malloc_counter.hpp). Optional: tests and benchmarks only.
+using AllocationCounter = long (*)();
+
+struct ServoConfig {
+  double rate_hz = 2000;             // 50 .. 10000 (the design range is 1-8 kHz)
+  bool realtime = true;              // ask for SCHED_FIFO and mlockall
+  int fifoPriority = 80;             // 1 .. 99
+  bool passivityController = false; // initial state; ServoCommand toggles it
+  double watchdogRamp_s = 0.010;     // forces fall to zero within this after a fault
+  AllocationCounter allocationCounter = nullptr;
+  void validate() const;             // throws std::invalid_argument
+};
+
+// Servo-level bits in the event stream, beside the grasp's GraspEvent bits (0-7).
+enum ServoEvent : std::uint32_t {
+  kWatchdogTrip = 1u << 16,   // fault raised: forces ramp to zero, grasp reset
+  kWatchdogClear = 1u << 17,  // good samples resumed
+  kGraspReset = 1u << 18,     // a ResetGrasp command was applied
+};
+
+// Small POD commands from the GUI thread.
+struct ServoCommand {
+  enum class Kind : std::uint8_t { ResetGrasp, SetPassivityController, Stop };
+  Kind kind = Kind::ResetGrasp;
+  bool on = false;  // SetPassivityController
+};
+
+enum class WatchdogFault : std::uint8_t { None, Silent, NonFinite };
+const char* toString(WatchdogFault fault);  // "none", "silent", "non-finite sample"
+
+struct WatchdogStatus {
+  WatchdogFault fault = WatchdogFault::None;  // active fault, None when healthy
+  double faultTime_s = 0;       // loop time the active (or last) fault was raised
+  double clearTime_s = -1;      // loop time the last fault cleared (-1: not yet)
+  WatchdogFault lastFault = WatchdogFault::None;  // most recent fault, even if cleared
+  std::uint64_t trips = 0;      // faults raised since start
+  double gain = 1;              // output gain: 1 healthy, ramping to 0 on a fault
+  double silence_s = 0;         // time since the last fresh sample
+};
+
+// One record of the event log: the tick that raised some events and the state change.
+struct EventRecord {
+  std::uint64_t tick = 0;
+  double time_s = 0;
+  std::uint32_t events = 0;
+  grasp::GraspState from = grasp::GraspState::Free, to = grasp::GraspState::Free;
+};
+
+// Passivity ports: index fingertip, thumb fingertip, wrist.
+enum Port : int { kIndexPort = 0, kThumbPort = 1, kWristPort = 2, kPortCount = 3 };
+
+struct ServoSnapshot {
+  static constexpr int kMaxParts = 64;
+  static constexpr int kEventLog = 64;
+
+  std::uint64_t tick = 0;        // 1 for the first tick
+  double time_s = 0;             // loop time (CLOCK_MONOTONIC since start) of this tick
+  double dt_s = 0;               // measured since the previous tick
+  grasp::GraspState state = grasp::GraspState::Free;
+  std::uint32_t events = 0;      // bits raised THIS tick (GraspEvent | ServoEvent)
+  bool freshSample = false;      // device.read returned a new sample this tick
+  bool passivityController = false;
+  grasp::HandSample hand;        // the last good sample
+  device::DeviceCommand raw;     // what the grasp asked for
+  device::DeviceCommand sent;    // after passivity controller, saturation and watchdog gain
+  bool saturated = false;        // some vector of `sent` was clamped this tick
+  int graspedPart = -1;
+  WatchdogStatus watchdog;
+  double energy_J[kPortCount] = {};   // passivity observer E(n) per Port (see passivity.hpp)
+  double alpha_Ns_per_m[kPortCount] = {};  // passivity controller damping this tick
+  long allocations = -1;         // servo-thread allocations since the first tick; -1: no counter
+  TimingSummary timing;          // refreshed every 64 ticks (and on the last tick)
+  std::uint64_t tickMid = 0;     // == tick (consistency check for readers)
+  // Event log: the last kEventLog ticks that raised events; record i of the total
+  // `eventCount` is at eventLog[i % kEventLog].
+  std::uint64_t eventCount = 0;
+  EventRecord eventLog[kEventLog] = {};
+  std::uint64_t eventTotals[32] = {};  // per event bit, raised since start
+  int partCount = 0;
+  grasp::PartPose poses[kMaxParts];
+  std::uint64_t tickEnd = 0;     // == tick (consistency check for readers)
+};
+
+// Per-reader cursor: the events raised since this reader's previous read.
+class SnapshotReader {
+ public:
+  // OR of the event bits of the log records newer than the previous call's snapshot.
+  // `lost` is set when more than kEventLog event ticks went by unseen (the OR is then of
+  // what the log still holds, plus eventTotals changes).
+  std::uint32_t eventsSinceLastRead(const ServoSnapshot& snapshot, bool* lost = nullptr) noexcept;
+
+ private:
+  std::uint64_t seen_ = 0;  // eventCount at the previous read
+  std::uint64_t totals_[32] = {};
+};
+
+class ServoLoop {
+ public:
+  // Throws std::invalid_argument for a null device or scene, a scene with more than
+  // ServoSnapshot::kMaxParts parts, or a bad config.
+  ServoLoop(std::shared_ptr<device::Device> device, grasp::ScenePtr scene,
+            const grasp::GraspParameters& parameters = {}, const ServoConfig& config = {});
+  ~ServoLoop();  // stop()s
+  ServoLoop(const ServoLoop&) = delete;
+  ServoLoop& operator=(const ServoLoop&) = delete;
+
+  // Starts the thread; returns once it has set its scheduling (see scheduler()). Throws
+  // std::logic_error if already running or the loop was used before. With realtime, the
+  // mlockall is process-wide and undone (munlockall) when this loop's thread exits.
+  void start();
+  // Asks the thread to stop, joins it (it checks the flag every tick and after every
+  // sleep, so this returns within about one period plus one tick), leaves the device idle.
+  void stop() noexcept;
+  bool running() const noexcept { return running_.load(std::memory_order_acquire); }
+
+  // GUI thread (a single producer). False if the ring is full.
+  bool send(const ServoCommand& command) noexcept { return commands_.push(command); }
+
+  // Any thread. False before the first tick.
+  bool read(ServoSnapshot& out) const noexcept { return snapshot_.read(out); }
+  const SeqLock<ServoSnapshot>& snapshots() const noexcept { return snapshot_; }
+
+  // Valid after start(): "SCHED_FIFO" or "SCHED_OTHER (EPERM: Operation not permitted)";
+  // memoryLock(): "mlockall" or "none (EPERM: ...)".
+  const std::string& scheduler() const noexcept { return scheduler_; }
+  const std::string& memoryLock() const noexcept { return memoryLock_; }
+  // Timing so far (exact as of the last snapshot refresh; final after stop()).
+  TimingSummary timing() const noexcept;
+  const ServoConfig& config() const noexcept { return config_; }
+
+ private:
+  void run() noexcept;
+  void tick(double now, double dt) noexcept;
+  void publish() noexcept;
+
+  std::shared_ptr<device::Device> device_;
+  grasp::ScenePtr scene_;
+  std::unique_ptr<grasp::TwoFingerGrasp> grasp_;
+  ServoConfig config_;
+  SpscRing<ServoCommand, 64> commands_;
+  SeqLock<ServoSnapshot> snapshot_;
+
+  std::thread thread_;
+  std::atomic<bool> stop_{false};
+  std::atomic<bool> running_{false};
+  std::atomic<bool> started_{false};
+  std::atomic<bool> ready_{false};
+  std::string scheduler_ = "not started", memoryLock_ = "not started";
+  bool locked_ = false;
+
+  // Servo-thread data (touched by the thread only while it runs).
+  ServoSnapshot snap_;               // the snapshot being built
+  device::DeviceSample sample_;
+  grasp::HandSample lastHand_;
+  bool haveHand_ = false;
+  double lastFresh_s_ = 0;           // loop time of the last fresh finite sample
+  double pendingDt_ = 0;             // time since the last grasp step
+  double sampleDt_ = 0;              // time since the last fresh sample
+  device::DeviceCommand held_;       // last command before the fault, ramped down
+  device::DeviceCommand lastOut_;    // last command computed (after controller and saturation)
+  double gain_ = 1;
+  double faultStart_s_ = 0;
+  PassivityPort ports_[kPortCount];
+  DurationHistogram periodError_, compute_;
+  std::uint64_t ticks_ = 0, overruns_ = 0, lateTicks_ = 0;
+  double firstTick_s_ = 0, lastTick_s_ = 0;
+  long allocationBase_ = 0;
+  bool passivityOn_ = false;
+  TimingSummary final_;              // written by the thread before it exits
+};
+
+}  // namespace hg::servo

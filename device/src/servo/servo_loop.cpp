@@ -1,0 +1,364 @@
+#include "hapticgrasp/servo/servo_loop.hpp"
+
+#include <pthread.h>
+#include <sched.h>
+#include <sys/mman.h>
+#include <time.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include "hapticgrasp/grasp/two_finger_grasp.hpp"
+
+namespace hg::servo {
+namespace {
+
+std::int64_t nowNs() noexcept {
+  timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+void sleepUntil(std::int64_t deadlineNs) noexcept {
+  timespec ts;
+  ts.tv_sec = static_cast<time_t>(deadlineNs / 1'000'000'000);
+  ts.tv_nsec = static_cast<long>(deadlineNs % 1'000'000'000);
+  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+  }
+}
+
+std::string errorText(int code) {
+  std::string text;
+  switch (code) {
+    case EPERM: text = "EPERM"; break;
+    case ENOMEM: text = "ENOMEM"; break;
+    case EINVAL: text = "EINVAL"; break;
+    default: text = "errno " + std::to_string(code); break;
+  }
+  text.append(": ");
+  text.append(std::strerror(code));
+  return text;
+}
+
+// Clamps |v| to `limit` keeping the direction; non-finite vectors become zero.
+bool clampNorm(Vec3& v, double limit) noexcept {
+  if (!v.allFinite()) {
+    v.setZero();
+    return true;
+  }
+  const double n = v.norm();
+  if (n > limit) {
+    v *= limit / n;
+    return true;
+  }
+  return false;
+}
+
+device::DeviceCommand scaled(const device::DeviceCommand& c, double gain) noexcept {
+  device::DeviceCommand out;
+  out.f_index = gain * c.f_index;
+  out.f_thumb = gain * c.f_thumb;
+  out.f_wrist = gain * c.f_wrist;
+  out.m_wrist = gain * c.m_wrist;
+  out.f_grasp = gain * c.f_grasp;
+  return out;
+}
+
+}  // namespace
+
+const char* toString(WatchdogFault fault) {
+  switch (fault) {
+    case WatchdogFault::None: return "none";
+    case WatchdogFault::Silent: return "silent";
+    case WatchdogFault::NonFinite: return "non-finite sample";
+  }
+  return "?";
+}
+
+void ServoConfig::validate() const {
+  if (!(rate_hz >= 50 && rate_hz <= 10000)) throw std::invalid_argument("servo rate must be in [50, 10000] Hz");
+  if (fifoPriority < 1 || fifoPriority > 99) throw std::invalid_argument("SCHED_FIFO priority must be in [1, 99]");
+  if (!(watchdogRamp_s > 0 && watchdogRamp_s <= 1)) throw std::invalid_argument("watchdog ramp must be in (0, 1] s");
+}
+
+std::uint32_t SnapshotReader::eventsSinceLastRead(const ServoSnapshot& s, bool* lost) noexcept {
+  std::uint32_t bits = 0;
+  bool missed = false;
+  if (s.eventCount > seen_) {
+    const std::uint64_t oldest = s.eventCount > ServoSnapshot::kEventLog ? s.eventCount - ServoSnapshot::kEventLog : 0;
+    missed = seen_ < oldest;
+    for (std::uint64_t i = std::max(seen_, oldest); i < s.eventCount; ++i) bits |= s.eventLog[i % ServoSnapshot::kEventLog].events;
+    if (missed)
+      for (int b = 0; b < 32; ++b)
+        if (s.eventTotals[b] > totals_[b]) bits |= 1u << b;
+  }
+  seen_ = s.eventCount;
+  std::copy(std::begin(s.eventTotals), std::end(s.eventTotals), std::begin(totals_));
+  if (lost) *lost = missed;
+  return bits;
+}
+
+ServoLoop::ServoLoop(std::shared_ptr<device::Device> device, grasp::ScenePtr scene,
+                     const grasp::GraspParameters& parameters, const ServoConfig& config)
+    : device_(std::move(device)), scene_(std::move(scene)), config_(config) {
+  if (!device_) throw std::invalid_argument("servo loop: no device");
+  if (!scene_) throw std::invalid_argument("servo loop: no scene");
+  if (scene_->size() > static_cast<std::size_t>(ServoSnapshot::kMaxParts))
+    throw std::invalid_argument("servo loop: more than " + std::to_string(ServoSnapshot::kMaxParts) + " parts");
+  config_.validate();
+  grasp_ = std::make_unique<grasp::TwoFingerGrasp>(scene_, parameters);
+  passivityOn_ = config_.passivityController;
+  snap_.partCount = static_cast<int>(scene_->size());
+  for (int i = 0; i < snap_.partCount; ++i) snap_.poses[i] = scene_->part(static_cast<std::size_t>(i)).initialPose;
+}
+
+ServoLoop::~ServoLoop() { stop(); }
+
+void ServoLoop::start() {
+  if (started_.exchange(true)) throw std::logic_error("servo loop: start() called twice");
+  running_.store(true, std::memory_order_release);
+  try {
+    thread_ = std::thread([this] { run(); });
+  } catch (...) {
+    running_.store(false, std::memory_order_release);
+    throw;
+  }
+  ready_.wait(false, std::memory_order_acquire);
+}
+
+void ServoLoop::stop() noexcept {
+  stop_.store(true, std::memory_order_release);
+  if (thread_.joinable()) thread_.join();
+}
+
+TimingSummary ServoLoop::timing() const noexcept {
+  if (!running()) return final_;
+  ServoSnapshot s;
+  return read(s) ? s.timing : TimingSummary{};
+}
+
+void ServoLoop::run() noexcept {
+  // --- Setup (may allocate: before the first tick and the allocation baseline).
+  if (config_.realtime) {
+    sched_param param{};
+    param.sched_priority = config_.fifoPriority;
+    const int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param);
+    scheduler_ = rc == 0 ? "SCHED_FIFO" : "SCHED_OTHER (" + errorText(rc) + ")";
+    if (mlockall(MCL_CURRENT | MCL_FUTURE) == 0) {
+      locked_ = true;
+      memoryLock_ = "mlockall";
+    } else {
+      memoryLock_ = "none (" + errorText(errno) + ")";
+    }
+  } else {
+    scheduler_ = "SCHED_OTHER (not requested)";
+    memoryLock_ = "none (not requested)";
+  }
+  {  // Touch the stack the tick will use (the snapshot copies are ~10 KB each).
+    volatile char stack[128 * 1024];
+    for (std::size_t i = 0; i < sizeof(stack); i += 4096) stack[i] = 0;
+  }
+  const std::int64_t period = std::llround(1e9 / config_.rate_hz);
+  snap_.timing.target_hz = config_.rate_hz;
+  ready_.store(true, std::memory_order_release);
+  ready_.notify_all();
+
+  allocationBase_ = config_.allocationCounter ? config_.allocationCounter() : 0;
+  const std::int64_t start = nowNs();
+  std::int64_t next = start, previous = start;
+  // --- The loop: no allocation, no lock, no I/O from here on.
+  while (!stop_.load(std::memory_order_acquire)) {
+    sleepUntil(next);
+    if (stop_.load(std::memory_order_acquire)) break;
+    const std::int64_t wake = nowNs();
+    const double t = 1e-9 * static_cast<double>(wake - start);
+    const double dt = ticks_ ? 1e-9 * static_cast<double>(wake - previous) : 0.0;
+    previous = wake;
+    if (ticks_) periodError_.add(std::abs(dt - 1e-9 * static_cast<double>(period)));
+    tick(t, dt);
+    next += period;
+    const std::int64_t end = nowNs();
+    if (end >= next) {  // missed: skip to the next deadline after now, do not catch up
+      const std::int64_t skipped = (end - next) / period + 1;
+      next += skipped * period;
+      overruns_ += static_cast<std::uint64_t>(skipped);
+      ++lateTicks_;
+    }
+  }
+  // --- Shutdown.
+  device_->idle();
+  snap_.sent = device::DeviceCommand{};
+  snap_.timing = final_ = [&] {
+    TimingSummary s;
+    s.target_hz = config_.rate_hz;
+    s.ticks = ticks_;
+    s.overruns = overruns_;
+    s.lateTicks = lateTicks_;
+    s.achieved_hz = ticks_ > 1 && lastTick_s_ > firstTick_s_ ? (ticks_ - 1) / (lastTick_s_ - firstTick_s_) : 0;
+    s.periodError = periodError_.summary();
+    s.compute = compute_.summary();
+    return s;
+  }();
+  publish();
+  if (locked_) munlockall();
+  running_.store(false, std::memory_order_release);
+}
+
+void ServoLoop::tick(double t, double dt) noexcept {
+  const std::int64_t computeStart = nowNs();
+  std::uint32_t events = 0;
+  const grasp::GraspState before = grasp_->state();
+
+  ServoCommand command;
+  while (commands_.pop(command)) {
+    switch (command.kind) {
+      case ServoCommand::Kind::ResetGrasp:
+        grasp_->reset();
+        events |= kGraspReset;
+        break;
+      case ServoCommand::Kind::SetPassivityController: passivityOn_ = command.on; break;
+      case ServoCommand::Kind::Stop: stop_.store(true, std::memory_order_release); break;
+    }
+  }
+
+  const device::DeviceSpec& spec = device_->spec();
+  pendingDt_ += dt;
+  sampleDt_ += dt;
+  const bool fresh = device_->read(sample_);
+  const bool good = fresh && sample_.hand.finite();
+  if (good) lastFresh_s_ = t;
+  WatchdogStatus& wd = snap_.watchdog;
+  wd.silence_s = t - lastFresh_s_;
+
+  // Watchdog: trip.
+  WatchdogFault fault = WatchdogFault::None;
+  double rampOrigin = t;
+  if (fresh && !good) {
+    fault = WatchdogFault::NonFinite;
+  } else if (!fresh && wd.silence_s > spec.timeout_s) {
+    fault = WatchdogFault::Silent;
+    rampOrigin = lastFresh_s_ + spec.timeout_s;  // the ramp starts when the timeout expired
+  }
+  if (fault != WatchdogFault::None && wd.fault == WatchdogFault::None) {
+    wd.fault = wd.lastFault = fault;
+    wd.faultTime_s = t;
+    ++wd.trips;
+    events |= kWatchdogTrip;
+    faultStart_s_ = rampOrigin;
+    held_ = snap_.sent;  // what the operator feels now; ramps down from here
+    gain_ = 1;           // held_ already carries the current gain
+    grasp_->reset();     // FREE, every part at its initial pose
+    snap_.graspedPart = -1;
+    for (PassivityPort& p : ports_) p.reset();
+  }
+  // Watchdog: clear on a fresh finite sample.
+  if (good && wd.fault != WatchdogFault::None) {
+    wd.fault = WatchdogFault::None;
+    wd.clearTime_s = t;
+    events |= kWatchdogClear;
+    pendingDt_ = 0;  // the grasp restarts as on a first sample
+    sampleDt_ = 0;
+    for (PassivityPort& p : ports_) p.reset();
+    lastOut_ = device::DeviceCommand{};
+    gain_ = 0;       // and ramps back up
+  }
+
+  device::DeviceCommand out;
+  if (wd.fault != WatchdogFault::None) {
+    gain_ = std::clamp(1.0 - (t - faultStart_s_) / config_.watchdogRamp_s, 0.0, gain_);
+    out = scaled(held_, gain_);
+    snap_.raw = device::DeviceCommand{};
+    for (int p = 0; p < kPortCount; ++p) snap_.alpha_Ns_per_m[p] = 0;
+  } else {
+    if (good) {
+      lastHand_ = sample_.hand;
+      const double stepDt = haveHand_ ? pendingDt_ : 0.0;
+      haveHand_ = true;
+      pendingDt_ = 0;
+      const grasp::GraspOutput g = grasp_->step(lastHand_, stepDt);
+      events |= g.events;
+      device::DeviceCommand raw;
+      if (g.validSample) {
+        raw.f_index = g.f_index;
+        raw.f_thumb = g.f_thumb;
+        raw.f_wrist = g.f_wrist;
+        raw.m_wrist = g.m_wrist;
+        raw.f_grasp = g.f_grasp;
+      }
+      snap_.raw = raw;
+      snap_.graspedPart = g.graspedPart;
+      // Passivity observer (always) and controller (when on), per port.
+      device::DeviceCommand c = raw;
+      const double sdt = sampleDt_;
+      sampleDt_ = 0;
+      const double bMax = spec.maxDamping_Ns_per_m;
+      snap_.alpha_Ns_per_m[kIndexPort] = ports_[kIndexPort].update(lastHand_.index, sdt, raw.f_index, passivityOn_, bMax, c.f_index);
+      snap_.alpha_Ns_per_m[kThumbPort] = ports_[kThumbPort].update(lastHand_.thumb, sdt, raw.f_thumb, passivityOn_, bMax, c.f_thumb);
+      snap_.alpha_Ns_per_m[kWristPort] = ports_[kWristPort].update(lastHand_.wrist, sdt, raw.f_wrist, passivityOn_, bMax, c.f_wrist);
+      // Saturation to the device's spec: magnitudes clamped, directions kept.
+      bool saturated = false;
+      saturated |= clampNorm(c.f_index, spec.maxForce_N);
+      saturated |= clampNorm(c.f_thumb, spec.maxForce_N);
+      saturated |= clampNorm(c.f_wrist, spec.maxForce_N);
+      saturated |= clampNorm(c.m_wrist, spec.maxTorque_Nm);
+      if (!std::isfinite(c.f_grasp) || c.f_grasp < 0) c.f_grasp = 0;
+      if (c.f_grasp > spec.maxForce_N) {
+        c.f_grasp = spec.maxForce_N;
+        saturated = true;
+      }
+      snap_.saturated = saturated;
+      lastOut_ = c;
+    } else {
+      for (int p = 0; p < kPortCount; ++p) snap_.alpha_Ns_per_m[p] = 0;
+    }
+    // No fresh sample within the timeout: the last command is held.
+    gain_ = std::min(1.0, gain_ + dt / config_.watchdogRamp_s);
+    out = scaled(lastOut_, gain_);
+  }
+  device_->write(out);
+  const std::int64_t computeEnd = nowNs();
+  compute_.add(1e-9 * static_cast<double>(computeEnd - computeStart));
+
+  // Snapshot.
+  ++ticks_;
+  if (ticks_ == 1) firstTick_s_ = t;
+  lastTick_s_ = t;
+  wd.gain = gain_;
+  snap_.tick = snap_.tickMid = snap_.tickEnd = ticks_;
+  snap_.time_s = t;
+  snap_.dt_s = dt;
+  snap_.state = grasp_->state();
+  snap_.freshSample = fresh;
+  snap_.passivityController = passivityOn_;
+  snap_.hand = lastHand_;
+  snap_.sent = out;
+  for (int p = 0; p < kPortCount; ++p) snap_.energy_J[p] = ports_[p].energy();
+  snap_.events = events;
+  if (events != 0 || snap_.state != before) {
+    EventRecord& r = snap_.eventLog[snap_.eventCount % ServoSnapshot::kEventLog];
+    r = {ticks_, t, events, before, snap_.state};
+    ++snap_.eventCount;
+    for (int b = 0; b < 32; ++b)
+      if (events & (1u << b)) ++snap_.eventTotals[b];
+  }
+  const auto poses = grasp_->poses();
+  for (int i = 0; i < snap_.partCount; ++i) snap_.poses[i] = poses[static_cast<std::size_t>(i)];
+  if (config_.allocationCounter) snap_.allocations = config_.allocationCounter() - allocationBase_;
+  if ((ticks_ & 63) == 1) {
+    TimingSummary& s = snap_.timing;
+    s.ticks = ticks_;
+    s.overruns = overruns_;
+    s.lateTicks = lateTicks_;
+    s.achieved_hz = ticks_ > 1 && lastTick_s_ > firstTick_s_ ? (ticks_ - 1) / (lastTick_s_ - firstTick_s_) : 0;
+    s.periodError = periodError_.summary();
+    s.compute = compute_.summary();
+  }
+  publish();
+}
+
+void ServoLoop::publish() noexcept { snapshot_.write(snap_); }
+
+}  // namespace hg::servo

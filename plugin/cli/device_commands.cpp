@@ -1,0 +1,40 @@
+#include "device_commands.hpp"
+
+#include <iostream>
+
+#include "hapticgrasp/device/device_discovery.hpp"
+#include "hapticgrasp/device/hid_layout.hpp"
+#include "hapticgrasp/device/hid_transport.hpp"
+#include "hapticgrasp/servo/servo_bench.hpp"
+// The servo benchmark counts the allocations the servo thread makes: this executable
+// interposes malloc (here, and nowhere else in it).
+#include "hapticgrasp/servo/malloc_counter.hpp"
+
+namespace hg::cli {
+
+int listDevices() {
+  const device::HidLayoutSet layouts = device::loadHidLayoutDirectory(device::defaultHidLayoutDirectory());
+  for (const std::string& error : layouts.errors) std::cerr << "layout skipped: " << error << std::endl;
+  device::HidapiTransport transport;
+  std::cout << device::formatDiscoveredDevices(device::discoverDevices(transport, layouts.layouts));
+  return 0;
+}
+
+int benchServo(double rate_hz, double seconds, bool json) {
+  const servo::ServoBenchResult r = servo::runServoBench(rate_hz, seconds, true, &servo::threadAllocations);
+  if (json) {
+    std::cout << servo::toJson(r) << std::endl;
+    return 0;
+  }
+  std::printf("servo loop: target %.0f Hz, achieved %.1f Hz over %.1f s; %s, %s\n", r.target_hz, r.achieved_hz,
+              r.seconds, r.scheduler.c_str(), r.memory_lock.c_str());
+  std::printf("  period error us  p50 %.2f  p99 %.2f  max %.2f\n", r.period_err.p50_us, r.period_err.p99_us, r.period_err.max_us);
+  std::printf("  compute us       p50 %.2f  p99 %.2f  max %.2f\n", r.compute.p50_us, r.compute.p99_us, r.compute.max_us);
+  std::printf("  overruns %llu, allocations in the loop %ld, grasps %llu, lifts %llu, watchdog trips %llu\n",
+              static_cast<unsigned long long>(r.overruns), r.allocations_in_loop,
+              static_cast<unsigned long long>(r.grasps), static_cast<unsigned long long>(r.lifts),
+              static_cast<unsigned long long>(r.watchdog_trips));
+  return 0;
+}
+
+}  // namespace hg::cli
