@@ -71,6 +71,14 @@ class PenetrationModel {
   // equally valid feet; a haptic force must not flip with it.
   Penetration track(const Vec3& x, QueryState& state, double hysteresis_m) const noexcept;
 
+  // x measured against one named feature only (a god-object proxy holds the face it
+  // entered through): queryFeature below, made public. u, v: warm start in, result out.
+  // out.inside is left true; its depth is the distance to that feature's foot.
+  bool againstFeature(const Vec3& x, Feature feature, int index, double& u, double& v,
+                      Penetration& out) const noexcept {
+    return queryFeature(x, feature, index, u, v, out);
+  }
+
  protected:
   // x measured against one feature only: false when x does not project into it (or the
   // back end names no stable features). out.inside is set by the caller.

@@ -1,0 +1,219 @@
+#include "hapticgrasp/grasp/multi_finger/multi_finger_grasp.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "hapticgrasp/grasp/multi_finger/shape_shell.hpp"
+#include "hapticgrasp/math/rpy.hpp"
+
+namespace hg::grasp::multi_finger {
+namespace {
+
+std::array<GodObject, kMaxFingers> makeGods(const geometry::PenetrationModel& model, const GodObjectParams& p) {
+  return {GodObject(model, p), GodObject(model, p), GodObject(model, p), GodObject(model, p), GodObject(model, p)};
+}
+
+GodObjectParams godParams(const MultiFingerParams& p) {
+  GodObjectParams g;
+  g.stiffness = p.stiffness;
+  g.friction = p.friction;
+  return g;
+}
+
+const geometry::PenetrationModel& checked(const std::shared_ptr<const geometry::PenetrationModel>& model) {
+  if (!model) throw std::invalid_argument("multi-finger grasp: no penetration model");
+  return *model;
+}
+
+}  // namespace
+
+MultiFingerGrasp::MultiFingerGrasp(std::shared_ptr<const geometry::PenetrationModel> model,
+                                   const geometry::MassProperties& mass, int fingers, const MultiFingerParams& params)
+    : model_(std::move(model)),
+      params_(params),
+      count_(fingers),
+      gods_(makeGods(checked(model_), godParams(params))),
+      body_(mass.mass_kg, mass.centre_m, mass.inertia_kgm2),
+      distributor_(params.distribution) {
+  if (fingers < 1 || fingers > kMaxFingers) throw std::invalid_argument("multi-finger grasp: 1 to 5 fingers");
+  if (!(mass.mass_kg > 0)) throw std::invalid_argument("multi-finger grasp: the part needs a positive mass");
+  radiusOfGyration2_ = std::max(1e-8, mass.inertia_kgm2.trace() / (2 * mass.mass_kg));
+  out_.count = count_;
+  reset(PartPose{});
+}
+
+void MultiFingerGrasp::reset(const PartPose& pose) noexcept {
+  for (GodObject& g : gods_) g.reset();
+  body_.reset(pose);
+  distributor_.reset();
+  shell_ = lastShell_ = pose;
+  haveLast_ = false;
+  shellV_ = shellW_ = Vec3::Zero();
+  out_ = MultiFingerOutput{};
+  out_.count = count_;
+  out_.shell = out_.body = pose;
+}
+
+const MultiFingerOutput& MultiFingerGrasp::step(std::span<const Vec3> tips, const Vec3& externalForce,
+                                                const Vec3& externalTorque, double dt) noexcept {
+  if (static_cast<int>(tips.size()) != count_ || !(dt > 0) || !std::isfinite(dt) || !externalForce.allFinite() ||
+      !externalTorque.allFinite())
+    return out_;
+  for (const Vec3& p : tips)
+    if (!p.allFinite()) return out_;
+  const double k = std::max(0.0, params_.stiffness);
+
+  // 1. The god objects on the shell.
+  std::array<Vec3, kMaxFingers> p{}, r{}, n{};
+  std::array<int, kMaxFingers> slot{};
+  int m = 0;
+  for (int i = 0; i < count_; ++i) {
+    out_.fingers[i] = FingerOutput{};
+    const GodObjectContact& c = gods_[i].update(shell_.toObject(tips[i]));
+    if (!c.inContact) continue;
+    p[m] = tips[i];
+    r[m] = shell_.pointToAbsolute(c.proxy);
+    n[m] = shell_.vectorToAbsolute(c.normal);
+    slot[m] = i;
+    ++m;
+  }
+  const bool wasHeld = out_.contacts > 0;
+  out_.contacts = m;
+
+  // 2. The shell's balance (eqs 15–18); the god objects follow it.
+  if (m > 0) {
+    const ShellBalance b = balanceShell(std::span<const Vec3>(p.data(), m), std::span<const Vec3>(r.data(), m));
+    if (b.valid) {
+      shell_.rotation = math::orthonormalized(b.rotation * shell_.rotation);
+      shell_.position = b.centre + b.rotation * (shell_.position - b.centre) + b.translation;
+      for (int j = 0; j < m; ++j) {
+        r[j] = b.centre + b.rotation * (r[j] - b.centre) + b.translation;
+        n[j] = b.rotation * n[j];
+      }
+    }
+  }
+
+  // 3./4. The part's mass and inertia, pulled towards the shell while a finger holds it.
+  const double mass = body_.mass();
+  const double kd = std::max(0.0, params_.dynamicsStiffness);
+  const double zeta = std::max(0.0, params_.dampingRatio);
+  SpringDamper6 spring;
+  const Vec3 gravityForce = mass * params_.gravity;
+  if (m > 0) {
+    // The shell's velocity for the dampers, low-passed (shellVelocityTau): the mass-less
+    // shell can jump in one tick (a finger pushing it against sliding contacts), and a raw
+    // jump / dt would kick the damper without bound.
+    if (wasHeld && haveLast_) {
+      const Vec3 rawV = (shell_.pointToAbsolute(body_.centre()) - lastShell_.pointToAbsolute(body_.centre())) / dt;
+      const Vec3 rawW = math::rotationVector(shell_.rotation * lastShell_.rotation.transpose()) / dt;
+      const double alpha = dt / (std::max(0.0, params_.shellVelocityTau) + dt);
+      shellV_ += alpha * (rawV - shellV_);
+      shellW_ += alpha * (rawW - shellW_);
+    } else {
+      shellV_ = body_.velocity();
+      shellW_ = body_.angularVelocity();
+    }
+    const Vec3 vs = shellV_, ws = shellW_;
+    spring.k = kd;
+    spring.c = 2 * zeta * std::sqrt(kd * mass);
+    spring.kr = params_.rotationalStiffness > 0 ? params_.rotationalStiffness : kd * radiusOfGyration2_;
+    spring.cr = 2 * zeta * std::sqrt(spring.kr * mass * radiusOfGyration2_);
+    body_.step(shell_, vs, ws, spring, gravityForce + externalForce, externalTorque, dt);
+  } else {
+    body_.step(body_.pose(), Vec3::Zero(), Vec3::Zero(), spring, gravityForce + externalForce, externalTorque, dt);
+  }
+  const Vec3 F = m > 0 ? body_.springForce() : Vec3::Zero();
+  const Vec3 N = m > 0 ? body_.springTorque() : Vec3::Zero();
+  const Vec3 centre = shell_.pointToAbsolute(body_.centre());
+
+  // 5./6. Grasping forces, and the resultant distributed by eq 19.
+  std::array<FingerContact, kMaxFingers> contacts{};
+  std::array<Vec3, kMaxFingers> grasp{};
+  for (int j = 0; j < m; ++j) {
+    grasp[j] = k * (r[j] - p[j]);  // on the finger
+    contacts[j].position = r[j];
+    contacts[j].normal = -n[j];
+    contacts[j].graspForce = grasp[j].norm();
+  }
+  Vec3 unmatchedForce = F, unmatchedTorque = N;
+  std::array<double, kMaxFingers> share{};
+  if (m > 0) {
+    const DistributionResult& d =
+        distributor_.solve(std::span<const FingerContact>(contacts.data(), m), F, N, centre);
+    if (d.valid) {
+      // Nearly collinear fingers asked for a torque across their line would need huge
+      // opposed pushes: no finger is given more than the whole resultant, |F| + |N| / L.
+      const double cap = F.norm() + N.norm() / std::max(d.leverArm, 1e-4);
+      unmatchedForce = F;
+      unmatchedTorque = N;
+      for (int j = 0; j < m; ++j) {
+        share[j] = std::min(d.k[j], cap);
+        unmatchedForce -= share[j] * contacts[j].normal.normalized();
+        unmatchedTorque -= (r[j] - centre).cross(share[j] * contacts[j].normal.normalized());
+      }
+    }
+  }
+
+  // Eq 19 gives only normal pushes: what is left of the force along the surfaces (a
+  // weight held between two vertical faces) is friction, at most μ times each normal force.
+  std::array<Vec3, kMaxFingers> tangential{};
+  for (int j = 0; j < m; ++j) {
+    const double normalForce = std::max(0.0, grasp[j].dot(n[j])) + share[j];
+    const double limit = std::max(0.0, params_.friction) * normalForce;
+    Vec3 t = (unmatchedForce - unmatchedForce.dot(n[j]) * n[j]) / static_cast<double>(m - j);
+    const double size = t.norm();
+    if (size > limit) t *= limit / size;
+    tangential[j] = t;  // on the part
+    unmatchedForce -= t;
+    unmatchedTorque -= (r[j] - centre).cross(t);
+  }
+
+  // 7. Torsional friction takes what is left of the torque about the normals.
+  bool slipping = false;
+  std::array<double, kMaxFingers> torsion{};
+  Vec3 slipAxis = Vec3::Zero();
+  for (int j = 0; j < m; ++j) {
+    const double normalForce = std::max(0.0, grasp[j].dot(n[j])) + share[j];
+    const double limit = std::max(0.0, params_.torsionalFriction) * normalForce;
+    const double wanted = unmatchedTorque.dot(n[j]) / static_cast<double>(m - j);
+    torsion[j] = std::clamp(wanted, -limit, limit);
+    unmatchedTorque -= torsion[j] * n[j];
+    if (std::abs(wanted) > limit + 1e-12) {
+      slipping = true;
+      if (slipAxis.isZero()) slipAxis = n[j];
+    }
+  }
+  // 8. Beyond the torsional limit the part turns in the grasp: the shell gives way about
+  // the contact normal by what the fingers cannot hold, so the spring asks no more.
+  if (slipping && spring.kr > 0) {
+    const double excess = unmatchedTorque.dot(slipAxis);
+    const Mat3 turn = math::fromRotationVector(excess / spring.kr * slipAxis);
+    shell_.rotation = math::orthonormalized(turn * shell_.rotation);
+    shell_.position = centre + turn * (shell_.position - centre);
+  }
+
+  for (int j = 0; j < m; ++j) {
+    FingerOutput& f = out_.fingers[slot[j]];
+    f.contact = true;
+    f.proxy = r[j];
+    f.normal = n[j];
+    f.graspForce = grasp[j].norm();
+    f.share = share[j];
+    f.force = grasp[j] + share[j] * n[j] - tangential[j];
+    f.torsion = -torsion[j] * n[j];
+  }
+  if (m == 0) shell_ = body_.pose();  // let go: the shell is the part's shape again
+  lastShell_ = shell_;
+  haveLast_ = true;
+  out_.shell = shell_;
+  out_.body = body_.pose();
+  out_.resultantForce = F;
+  out_.resultantTorque = N;
+  out_.unmatchedForce = unmatchedForce;
+  out_.unmatchedTorque = unmatchedTorque;
+  out_.slipping = slipping;
+  return out_;
+}
+
+}  // namespace hg::grasp::multi_finger

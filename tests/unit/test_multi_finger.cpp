@@ -1,0 +1,404 @@
+// The resultant-force paper's grasp models: 1 DOF (section 4) and its experiment (section 6).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+#include <nlohmann/json.hpp>
+
+#include "alloc_counter.hpp"
+#include "hapticgrasp/geometry/backends.hpp"
+#include "hapticgrasp/grasp/multi_finger/god_object.hpp"
+#include "hapticgrasp/grasp/multi_finger/multi_finger_grasp.hpp"
+#include "hapticgrasp/grasp/multi_finger/shape_shell.hpp"
+#include "hapticgrasp/grasp/multi_finger/one_dof.hpp"
+#include "hapticgrasp/grasp/shake_experiment.hpp"
+#include "hapticgrasp/math/rpy.hpp"
+#include "test_shapes.hpp"
+
+using namespace hg::grasp;
+using namespace hg::grasp::multi_finger;
+
+namespace {
+
+// The fingers of a hand shaking a held block: wrist sine, fixed aperture.
+struct Hand {
+  double aperture, amplitude, frequency;
+  double thumb(double t) const { return wrist(t) - 0.5 * aperture; }
+  double index(double t) const { return wrist(t) + 0.5 * aperture; }
+  double wrist(double t) const { return amplitude * std::sin(2 * M_PI * frequency * t); }
+};
+
+}  // namespace
+
+// Eq 12: with the shell, the grasping force is k_g (l − gap)/2 whatever the resultant; the
+// conventional springs obey eq 8 instead (gap = l − (2 f_g + |f_r|)/k).
+TEST(OneDof, Eq12GraspForceFollowsTheGapOnlyEq8Conventional) {
+  OneDofParams p;
+  p.dampingRatio = 0;  // eq 8 holds for the bare springs
+  ConventionalOneDof conv(p);
+  ProposedOneDof prop(p);
+  conv.reset(0);
+  prop.reset(0);
+  const Hand hand{0.055, 0.03, 2.0};
+  const double dt = 1e-3;
+  double maxResultantConv = 0, maxResultantProp = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const double t = i * dt;
+    const OneDofOutput& c = conv.step(hand.thumb(t), hand.index(t), 0, dt);
+    if (c.grasped) {
+      EXPECT_NEAR(c.distance, p.length - (2 * c.graspForce + std::abs(c.resultant)) / p.kGrasp, 1e-9) << t;
+    }
+    maxResultantConv = std::max(maxResultantConv, std::abs(c.resultant));
+    const OneDofOutput& o = prop.step(hand.thumb(t), hand.index(t), 0, dt);
+    ASSERT_TRUE(o.grasped);
+    EXPECT_NEAR(o.graspForce, p.kGrasp * (p.length - o.distance) / 2, 1e-9) << t;
+    EXPECT_NEAR(o.distance, p.length - 2 * o.graspForce / p.kGrasp, 1e-12) << t;  // eq 12
+    maxResultantProp = std::max(maxResultantProp, std::abs(o.resultant));
+  }
+  EXPECT_GT(maxResultantConv, 1.0);  // the shake really needed a resultant
+  EXPECT_GT(maxResultantProp, 1.0);
+}
+
+// Section 4.3: the resultant never lowers a finger's grasping force, and the fingers give
+// the part what its motion needs (m ẍ = f_r + f_e).
+TEST(OneDof, DistributionNeverLowersGraspingForceAndMatchesResultant) {
+  OneDofParams p;
+  ProposedOneDof prop(p);
+  prop.reset(0);
+  const Hand hand{0.054, 0.04, 2.5};
+  const double dt = 5e-4;
+  double lastV = 0;
+  for (int i = 0; i < 6000; ++i) {
+    const double t = i * dt;
+    const double fe = 0.5 * std::sin(3 * t);  // some external force along the grasp
+    const OneDofOutput& o = prop.step(hand.thumb(t), hand.index(t), fe, dt);
+    const double fg = p.kGrasp * (p.length - o.distance) / 2;
+    EXPECT_GE(-o.thumbForce, fg - 1e-9);
+    EXPECT_GE(o.indexForce, fg - 1e-9);
+    EXPECT_NEAR(o.graspForce, fg, 1e-9);
+    // Exactly one finger carries the resultant.
+    EXPECT_TRUE(std::abs(-o.thumbForce - fg) < 1e-9 || std::abs(o.indexForce - fg) < 1e-9);
+    EXPECT_NEAR(p.mass * (o.partVelocity - lastV) / dt, o.resultant + fe, 1e-6 * (1 + std::abs(o.resultant)));
+    lastV = o.partVelocity;
+  }
+}
+
+TEST(OneDof, StepIsAllocationFreeAndIgnoresNonFiniteInput) {
+  ConventionalOneDof conv;
+  ProposedOneDof prop;
+  conv.reset(0);
+  prop.reset(0);
+  const long before = hg::test::allocations();
+  for (int i = 0; i < 1000; ++i) {
+    conv.step(-0.028, 0.028, 0.1, 1e-3);
+    prop.step(-0.028, 0.028, 0.1, 1e-3);
+  }
+  EXPECT_EQ(hg::test::allocations(), before);
+  const double x = prop.output().partPosition;
+  prop.step(NAN, 0.028, 0, 1e-3);
+  prop.step(-0.028, 0.028, 0, 0.0);
+  conv.step(-0.028, INFINITY, 0, 1e-3);
+  EXPECT_EQ(prop.output().partPosition, x);
+  EXPECT_TRUE(std::isfinite(conv.output().partPosition));
+}
+
+// A single finger pushes the part: the shell moves with it, the part follows through k_d.
+TEST(OneDof, ProposedPushWithOneFinger) {
+  ProposedOneDof prop;
+  prop.reset(0);
+  double thumb = -0.05;
+  for (int i = 0; i < 3000; ++i) {
+    thumb += 0.1 * 1e-3;  // 0.1 m/s towards +x
+    const OneDofOutput& o = prop.step(thumb, 1.0, 0, 1e-3);
+    EXPECT_LE(o.thumbForce, 0);
+    EXPECT_EQ(o.indexForce, 0);
+  }
+  EXPECT_GT(prop.output().partPosition, 0.2);
+  EXPECT_NEAR(prop.output().partVelocity, 0.1, 0.02);
+}
+
+// Eq 12 in the experiment: the proposed method's finger distance does not depend on the
+// resultant (two shake amplitudes give the same distance); the conventional one shrinks
+// with the resultant (eq 8).
+TEST(ShakeExperiment, Eq12DistanceIndependentOfShakeAmplitude) {
+  ShakeConfig a, b;
+  a.duration = b.duration = 12;
+  a.handStiffness = b.handStiffness = 0;  // a rigid hand: the fingers are where the subject puts them
+  a.amplitude = 0.02;
+  b.amplitude = 0.04;
+  const ShakeResult ra = runShakeExperiment(a), rb = runShakeExperiment(b);
+  EXPECT_GT(rb.proposed.resultant_max_N, 1.5 * ra.proposed.resultant_max_N);
+  EXPECT_NEAR(ra.proposed.distance_mean_m, rb.proposed.distance_mean_m, 1e-4);
+  EXPECT_NEAR(ra.proposed.distance_std_m, rb.proposed.distance_std_m, 1e-4);
+  EXPECT_LT(rb.conventional.distance_mean_m, ra.conventional.distance_mean_m - 5e-4);
+  EXPECT_GT(rb.conventional.distance_std_m, ra.conventional.distance_std_m);
+  // A compliant hand gives way to the resultant: the proposed distance grows a little
+  // (the paper's section 6.2 observation), but far less than the conventional one shrinks.
+  a.handStiffness = b.handStiffness = 2000;
+  const ShakeResult ca = runShakeExperiment(a), cb = runShakeExperiment(b);
+  EXPECT_LT(std::abs(cb.proposed.distance_mean_m - ca.proposed.distance_mean_m),
+            0.25 * std::abs(cb.conventional.distance_mean_m - ca.conventional.distance_mean_m));
+}
+
+// Tables 1–2's direction: the proposed method's distance and grasping force vary less.
+TEST(ShakeExperiment, ProposedIsSteadierThanConventional) {
+  const ShakeResult r = runShakeExperiment();
+  EXPECT_TRUE(r.conventional.finite);
+  EXPECT_TRUE(r.proposed.finite);
+  EXPECT_LT(r.proposed.distance_std_m, r.conventional.distance_std_m);
+  EXPECT_LT(r.proposed.grasp_force_std_N, r.conventional.grasp_force_std_N);
+  EXPECT_GT(r.proposed.distance_mean_m, r.conventional.distance_mean_m);
+  // The subject holds about its target (2 N, as Table 1's subjects).
+  EXPECT_NEAR(r.proposed.grasp_force_mean_N, r.target_grasp_force_N, 0.2 * r.target_grasp_force_N);
+  const auto j = nlohmann::json::parse(toJson(r));
+  for (const char* m : {"conventional", "proposed"})
+    for (const char* f : {"grasp_force_mean_N", "grasp_force_std_N", "distance_mean_m", "distance_std_m"})
+      EXPECT_TRUE(j["methods"][m][f].is_number()) << m << " " << f;
+  const std::string svg = toSvg(r);
+  EXPECT_NE(svg.find("<svg"), std::string::npos);
+  EXPECT_NE(svg.find("</svg>"), std::string::npos);
+  EXPECT_EQ(svg.find("nan"), std::string::npos);
+}
+
+// Extremes: dt 1e-4..1e-2, stiffness x0.01..x100, tiny and heavy parts: no NaN, bounded.
+TEST(ShakeExperiment, ExtremesStayFiniteAndBounded) {
+  for (double dt : {1e-4, 3e-4, 1e-3, 3e-3, 1e-2}) {
+    for (double scale : {0.01, 0.1, 1.0, 10.0, 100.0}) {
+      for (double mass : {0.01, 1.0, 50.0}) {
+        ShakeConfig c;
+        c.dt = dt;
+        c.duration = dt < 5e-4 ? 3 : 8;
+        c.stiffness = 800 * scale;
+        c.dynamicsStiffness = 800 * scale;
+        c.mass = mass;
+        const ShakeResult r = runShakeExperiment(c);
+        for (const ShakeMethodResult* m : {&r.conventional, &r.proposed}) {
+          SCOPED_TRACE(testing::Message() << "dt " << dt << " stiffness x" << scale << " mass " << mass);
+          EXPECT_TRUE(m->finite);
+          // Bounded: no force beyond what the springs can give over the part's width
+          // plus the part's inertia at the shake (with a generous factor).
+          const double inertia = mass * c.amplitude * std::pow(2 * M_PI * c.frequency, 2);
+          EXPECT_LT(m->max_force_N, 10 * (c.stiffness * c.width + inertia) + 10);
+          EXPECT_GT(m->distance_mean_m, 0);
+          EXPECT_LT(m->distance_mean_m, 2.01 * c.width);
+        }
+      }
+    }
+  }
+}
+
+TEST(ShakeExperiment, RejectsBadConfig) {
+  ShakeConfig c;
+  c.dt = 0;
+  EXPECT_THROW(runShakeExperiment(c), std::invalid_argument);
+  c = {};
+  c.stiffness = NAN;
+  EXPECT_THROW(runShakeExperiment(c), std::invalid_argument);
+}
+
+// The god object never passes through a 2 mm plate pushed hard from +z to z = −10 mm: the
+// force stays along +z and grows monotonically. The raw closest point flips to the far
+// face past the middle (its force would point −z), then lets go.
+TEST(GodObject, ThinPlatePushedHardNeverPassesThrough) {
+  const auto plate = hg::geometry::makeExactPenetration(hg::test::boxPart(100, 100, 2));
+  GodObjectParams params;
+  params.stiffness = 800;
+  GodObject proxy(*plate, params);
+  hg::geometry::QueryState raw;
+  double lastForce = 0;
+  bool rawFlipped = false, touched = false;
+  for (int i = 0; i <= 150; ++i) {
+    const hg::Vec3 x(0.010, 0.005, 0.005 - i * 1e-4);  // 5 mm above to 10 mm below the middle
+    const GodObjectContact& c = proxy.update(x);
+    if (x.z() < 0.001) {
+      ASSERT_TRUE(c.inContact) << x.z();
+      touched = true;
+      EXPECT_NEAR(c.proxy.z(), 0.001, 1e-9);
+      EXPECT_NEAR(c.force.x(), 0, 1e-9);
+      EXPECT_NEAR(c.force.y(), 0, 1e-9);
+      EXPECT_GT(c.force.z(), 0);
+      EXPECT_GE(c.force.z(), lastForce - 1e-12);
+      EXPECT_NEAR(c.force.z(), params.stiffness * (0.001 - x.z()), 1e-9);
+      lastForce = c.force.z();
+    } else {
+      EXPECT_FALSE(c.inContact);
+    }
+    const hg::geometry::Penetration p = plate->query(x, raw);
+    if (p.inside && p.normal.z() < -0.5) rawFlipped = true;  // the closest point's force: −z
+  }
+  EXPECT_TRUE(touched);
+  EXPECT_TRUE(rawFlipped);
+  EXPECT_NEAR(lastForce, 800 * 0.011, 1e-9);
+  // Pulled back out: released.
+  EXPECT_FALSE(proxy.update(hg::Vec3(0.010, 0.005, 0.002)).inContact);
+}
+
+// Coulomb friction: stick within μ F_n, slide along the cone's edge beyond.
+TEST(GodObject, CoulombFrictionSticksThenSlides) {
+  const auto box = hg::geometry::makeExactPenetration(hg::test::boxPart());  // top face z = 15 mm
+  GodObjectParams params;
+  params.stiffness = 800;
+  params.friction = 1.0;
+  GodObject proxy(*box, params);
+  ASSERT_TRUE(proxy.update(hg::Vec3(0, 0, 0.014)).inContact);  // 1 mm deep: F_n = 0.8 N
+  const GodObjectContact& stick = proxy.update(hg::Vec3(0.0005, 0, 0.014));
+  EXPECT_FALSE(stick.sliding);
+  EXPECT_NEAR(stick.proxy.x(), 0, 1e-9);
+  EXPECT_NEAR(stick.force.x(), -0.4, 1e-9);
+  EXPECT_NEAR(stick.normalForce, 0.8, 1e-9);
+  const GodObjectContact& slide = proxy.update(hg::Vec3(0.003, 0, 0.014));
+  EXPECT_TRUE(slide.sliding);
+  EXPECT_NEAR(slide.tangentialForce, 0.8, 1e-9);
+  EXPECT_NEAR(slide.proxy.x(), 0.002, 1e-9);
+  EXPECT_NEAR(slide.proxy.z(), 0.015, 1e-9);
+  // Frictionless: the proxy is the foot.
+  params.friction = 0;
+  proxy.setParams(params);
+  EXPECT_NEAR(proxy.update(hg::Vec3(0.004, 0, 0.014)).tangentialForce, 0, 1e-9);
+}
+
+TEST(GodObject, UpdateIsAllocationFreeOnTheExactBackEnd) {
+  const auto plate = hg::geometry::makeExactPenetration(hg::test::boxPart(100, 100, 2));
+  GodObject proxy(*plate);
+  proxy.update(hg::Vec3(0.01, 0.005, 0.002));
+  proxy.update(hg::Vec3(0.01, 0.005, 0.0005));
+  const long before = hg::test::allocations();
+  for (int i = 0; i < 200; ++i) proxy.update(hg::Vec3(0.01 + 1e-5 * i, 0.005, 0.0005 - 5e-5 * i));
+  EXPECT_EQ(hg::test::allocations(), before);
+  EXPECT_TRUE(proxy.contact().inContact);
+  proxy.update(hg::Vec3(NAN, 0, 0));
+  EXPECT_TRUE(proxy.contact().force.allFinite());
+}
+
+// Eqs 15–18: the balanced shell leaves no net force and no net torque on it.
+TEST(ShapeShell, BalanceLeavesNoForceNoTorque) {
+  const std::vector<hg::Vec3> fingers{{0.028, 0.001, 0.002}, {-0.027, -0.002, 0.0}, {0.0, 0.031, -0.001}};
+  const std::vector<hg::Vec3> proxies{{0.03, 0.0, 0.0}, {-0.03, 0.0, 0.0}, {0.0, 0.03, 0.0}};
+  const ShellBalance b = balanceShell(fingers, proxies);
+  ASSERT_TRUE(b.valid);
+  hg::Vec3 f = hg::Vec3::Zero(), t = hg::Vec3::Zero();
+  for (std::size_t i = 0; i < fingers.size(); ++i) {
+    const hg::Vec3 r = b.centre + b.rotation * (proxies[i] - b.centre) + b.translation;
+    f += fingers[i] - r;
+    t += (r - b.centre).cross(fingers[i] - r);
+  }
+  EXPECT_LT(f.norm(), 1e-9);
+  EXPECT_LT(t.norm(), 1e-10);
+  // Two fingers: the spin about their line is left alone (no NaN, no motion).
+  const ShellBalance two = balanceShell(std::span(fingers.data(), 2), std::span(proxies.data(), 2));
+  EXPECT_TRUE(two.translation.allFinite());
+  EXPECT_TRUE(two.rotation.allFinite());
+}
+
+namespace {
+
+struct Block {
+  hg::geometry::PartModelPtr part;
+  hg::geometry::PenetrationModelPtr model;
+  hg::geometry::MassProperties mass;
+};
+Block block(double x_mm, double y_mm, double z_mm, double kg) {
+  Block b;
+  b.part = hg::test::boxPart(x_mm, y_mm, z_mm);
+  b.model = hg::geometry::makeExactPenetration(b.part);
+  b.mass = b.part->massProperties(hg::geometry::MassSpec::mass(kg));
+  return b;
+}
+
+}  // namespace
+
+// The paper's block held by thumb and index on its 6 cm faces under g = 2 m/s²: the weight
+// is held by friction, the grasping forces are equal and opposite (the balanced shell),
+// a small twist about the grasp axis is held by torsional friction and a large one slips.
+TEST(MultiFingerGrasp, TwoFingersHoldTheBlockAndResistSpinning) {
+  const Block b = block(60, 60, 100, 1.0);
+  MultiFingerParams params;
+  params.gravity = hg::Vec3(0, 0, -2.0);
+  params.torsionalFriction = 0.005;
+  MultiFingerGrasp grasp(b.model, b.mass, 2, params);
+  const std::vector<hg::Vec3> tips{{0.0275, 0, 0}, {-0.0275, 0, 0}};
+  const double dt = 1e-3;
+  auto run = [&](const hg::Vec3& torque, int ticks) {
+    for (int i = 0; i < ticks; ++i) grasp.step(tips, hg::Vec3::Zero(), torque, dt);
+    return grasp.output();
+  };
+  const MultiFingerOutput held = run(hg::Vec3::Zero(), 2000);
+  EXPECT_EQ(held.contacts, 2);
+  EXPECT_NEAR(held.fingers[0].graspForce, held.fingers[1].graspForce, 1e-6);
+  EXPECT_NEAR(held.fingers[0].force.x(), 2.0, 0.1);   // k · 2.5 mm, pushed out +x
+  EXPECT_NEAR(held.fingers[1].force.x(), -2.0, 0.1);
+  EXPECT_NEAR(held.fingers[0].force.z() + held.fingers[1].force.z(), -2.0, 0.05);  // the weight, felt
+  EXPECT_GT(held.body.position.z(), -0.01);  // hangs by its spring, not dropped
+  EXPECT_FALSE(held.slipping);
+  // Small twist about the grasp axis: held (limit μ_t · 2 N per finger = 0.02 N m total).
+  const MultiFingerOutput twisted = run(hg::Vec3(0.01, 0, 0), 2000);
+  EXPECT_FALSE(twisted.slipping);
+  EXPECT_LT(hg::math::rotationVector(twisted.body.rotation).norm(), 0.1);
+  // Large twist: slips round.
+  const MultiFingerOutput spun = run(hg::Vec3(0.2, 0, 0), 2000);
+  EXPECT_TRUE(spun.slipping);
+  EXPECT_GT(hg::math::rotationVector(spun.body.rotation).norm(), 0.3);
+  for (const auto& f : spun.fingers) EXPECT_TRUE(f.force.allFinite());
+}
+
+// Extremes: five fingers pushing one face, fingers on opposite edges, tiny and heavy parts,
+// dt 1e-4..1e-2: never NaN, forces bounded.
+TEST(MultiFingerGrasp, ExtremesStayFiniteAndBounded) {
+  struct Case {
+    const char* name;
+    double size_mm, kg;
+    std::vector<hg::Vec3> tips;  // in units of the half size
+  };
+  const std::vector<Case> cases{
+      {"five on one face", 60, 1.0,
+       {{0, 0, 0.95}, {0.5, 0, 0.95}, {-0.5, 0, 0.95}, {0, 0.5, 0.95}, {0, -0.5, 0.95}}},
+      {"opposite edges", 60, 1.0, {{0.97, 0, 0.97}, {-0.97, 0, -0.97}}},
+      {"three round", 60, 1.0, {{0.95, 0, 0}, {-0.6, 0.95, 0}, {-0.6, -0.95, 0}}},
+      {"tiny", 2, 1e-4, {{0.9, 0, 0}, {-0.9, 0, 0}}},
+      {"heavy", 300, 200.0, {{0.99, 0, 0}, {-0.99, 0, 0}, {0, 0.99, 0.5}}},
+  };
+  for (const Case& c : cases) {
+    const Block b = block(c.size_mm, c.size_mm, c.size_mm, c.kg);
+    const double half = 0.5e-3 * c.size_mm;
+    for (double dt : {1e-4, 1e-3, 1e-2}) {
+      for (double kScale : {0.01, 1.0, 100.0}) {
+        SCOPED_TRACE(testing::Message() << c.name << " dt " << dt << " stiffness x" << kScale);
+        MultiFingerParams params;
+        params.stiffness = 800 * kScale;
+        params.dynamicsStiffness = 800 * kScale;
+        MultiFingerGrasp grasp(b.model, b.mass, static_cast<int>(c.tips.size()), params);
+        std::vector<hg::Vec3> tips(c.tips.size());
+        const int ticks = static_cast<int>(0.5 / dt);
+        double largest = 0;
+        for (int i = 0; i < ticks; ++i) {
+          const double t = i * dt;
+          for (std::size_t j = 0; j < tips.size(); ++j)  // squeeze in and wobble
+            tips[j] = c.tips[j] * half * (1 - 0.02 * std::sin(6 * t)) + hg::Vec3(0.2 * half * std::sin(9 * t), 0, 0);
+          const MultiFingerOutput& o = grasp.step(tips, hg::Vec3::Zero(), hg::Vec3::Zero(), dt);
+          ASSERT_TRUE(o.body.position.allFinite());
+          ASSERT_TRUE(o.body.rotation.allFinite());
+          for (const FingerOutput& f : o.fingers) {
+            ASSERT_TRUE(f.force.allFinite());
+            ASSERT_TRUE(f.torsion.allFinite());
+            largest = std::max(largest, f.force.norm());
+          }
+        }
+        // Bounded: the springs over the part's size plus its weight and shake, generously.
+        const double bound = 10 * (params.stiffness * 2 * half + c.kg * 9.81 * 5) + 1;
+        EXPECT_LT(largest, bound);
+        EXPECT_LT(grasp.output().body.position.norm(), 100.0);
+      }
+    }
+  }
+}
+
+TEST(MultiFingerGrasp, StepIsAllocationFree) {
+  const Block b = block(60, 60, 100, 1.0);
+  MultiFingerGrasp grasp(b.model, b.mass, 3);
+  const std::vector<hg::Vec3> tips{{0.0275, 0, 0}, {-0.0275, 0.01, 0}, {-0.0275, -0.01, 0}};
+  for (int i = 0; i < 20; ++i) grasp.step(tips, hg::Vec3::Zero(), hg::Vec3::Zero(), 1e-3);
+  const long before = hg::test::allocations();
+  for (int i = 0; i < 500; ++i) grasp.step(tips, hg::Vec3::Zero(), hg::Vec3::Zero(), 1e-3);
+  EXPECT_EQ(hg::test::allocations(), before);
+  EXPECT_EQ(grasp.output().contacts, 3);
+}
