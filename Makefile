@@ -7,7 +7,7 @@ deps:
 	packaging/install-deps
 
 build: deps
-	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=/usr/bin/python3
 	cmake --build $(BUILD) -j $(JOBS)
 
 demo: build

@@ -1,0 +1,135 @@
+#include "haptic_session.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "hapticgrasp/grasp/grasp_state.hpp"
+#include "hapticgrasp/grasp/scene.hpp"
+
+namespace hg::freecad {
+
+geometry::PartModelPtr loadPart(const std::string& brep, const std::string& name) {
+  geometry::PartModel::LoadOptions options;
+  options.parallel = false;  // beside a GUI and possibly a running servo thread
+  return geometry::PartModel::fromBrepText(brep, kDocumentUnit, name, options);
+}
+
+PartInfo describe(const geometry::PartModel& part, const geometry::MassSpec& mass) {
+  const geometry::MassProperties props = part.massProperties(mass);
+  PartInfo info;
+  info.name = part.name();
+  info.faces = part.faces().Extent();
+  const double mm3PerM3 = toMillimetres(1.0) * toMillimetres(1.0) * toMillimetres(1.0);
+  info.volume_mm3 = props.volume_m3 * mm3PerM3;
+  info.mass_kg = props.mass_kg;
+  info.centre_mm = toMillimetres(props.centre_m);
+  info.primitive = geometry::toString(part.primitive().kind);
+  info.warnings = part.warnings();
+  return info;
+}
+
+Session::~Session() { stop(); }
+
+int Session::addPart(const std::string& name, const std::string& brep, const Placement& placement,
+                     const geometry::MassSpec& mass) {
+  if (loop_) throw std::logic_error("parts must be added before start()");
+  const grasp::PartPose pose = toPose(placement);
+  auto model = loadPart(brep, name);
+  parts_.push_back(grasp::makeScenePart(model, mass, pose));
+  infos_.push_back(describe(*model, mass));
+  return static_cast<int>(parts_.size()) - 1;
+}
+
+void Session::setHandScript(const std::vector<HandKeyMm>& keys, const Placement& frame,
+                            const std::array<double, 3>& pivot_mm) {
+  if (loop_) throw std::logic_error("the device must be chosen before start()");
+  std::vector<grasp::HandKey> k;
+  k.reserve(keys.size());
+  for (const auto& key : keys) k.push_back(toHandKey(key));
+  script_ = std::make_unique<grasp::HandScript>(std::move(k), toPose(frame), toMetres(pivot_mm));
+  handHold_s_ = 0;
+}
+
+void Session::useHandInput(double hold_s) {
+  if (loop_) throw std::logic_error("the device must be chosen before start()");
+  if (!(hold_s > 0 && std::isfinite(hold_s))) throw std::invalid_argument("hand hold time must be positive");
+  handHold_s_ = hold_s;
+  script_.reset();
+}
+
+void Session::setHand(const std::array<double, 3>& index_mm, const std::array<double, 3>& thumb_mm,
+                      const std::array<double, 3>& wrist_mm) {
+  if (!input_) throw std::logic_error("no hand input device: useHandInput() and start() first");
+  grasp::HandSample hand;
+  hand.index = toMetres(index_mm);
+  hand.thumb = toMetres(thumb_mm);
+  hand.wrist = toMetres(wrist_mm);
+  input_->setHand(hand);
+}
+
+std::string Session::deviceName() const {
+  if (handHold_s_ > 0) return HandInputDevice::defaultSpec().name;
+  if (script_) return servo::ScriptedHandDevice::defaultSpec().name;
+  return "none";
+}
+
+double Session::scriptDuration() const { return script_ ? script_->duration() : 0.0; }
+
+void Session::start(double rate_hz, bool realtime) {
+  if (loop_) throw std::logic_error("a session starts once");
+  if (parts_.empty()) throw std::invalid_argument("no parts to grasp");
+  std::shared_ptr<device::Device> device;
+  if (handHold_s_ > 0) {
+    device = input_ = std::make_shared<HandInputDevice>(handHold_s_);
+  } else if (script_) {
+    device = scripted_ = std::make_shared<servo::ScriptedHandDevice>(*script_);
+  } else {
+    throw std::invalid_argument("no device: set a hand script or use the hand input first");
+  }
+  auto scene = std::make_shared<const grasp::Scene>(parts_);
+  servo::ServoConfig config;
+  config.rate_hz = rate_hz;
+  config.realtime = realtime;
+  loop_ = std::make_unique<servo::ServoLoop>(device, scene, grasp::GraspParameters{}, config);
+  loop_->start();
+}
+
+void Session::stop() noexcept {
+  if (loop_) loop_->stop();
+}
+
+SessionSnapshot Session::snapshot() {
+  SessionSnapshot out;
+  out.placements.reserve(parts_.size());
+  if (!loop_ || !loop_->read(*snap_)) {
+    for (const auto& part : parts_) out.placements.push_back(toPlacement(part.initialPose));
+    return out;
+  }
+  const servo::ServoSnapshot& s = *snap_;
+  out.tick = s.tick;
+  out.time_s = s.time_s;
+  out.state = grasp::toString(s.state);
+  out.graspedPart = s.graspedPart;
+  out.events = reader_.eventsSinceLastRead(s, &out.eventsLost);
+  for (int bit = 0; bit < grasp::kEventCount; ++bit)
+    if (out.events & (1u << bit)) out.eventNames.emplace_back(grasp::eventName(static_cast<grasp::GraspEvent>(1u << bit)));
+  if (out.events & servo::kWatchdogTrip) out.eventNames.emplace_back("watchdog trip");
+  if (out.events & servo::kWatchdogClear) out.eventNames.emplace_back("watchdog clear");
+  if (out.events & servo::kGraspReset) out.eventNames.emplace_back("grasp reset");
+  out.fault = servo::toString(s.watchdog.fault);
+  out.faults = s.watchdog.trips;
+  for (int i = 0; i < s.partCount; ++i) out.placements.push_back(toPlacement(s.poses[i]));
+  return out;
+}
+
+void Session::setDeviceSilent(bool silent) {
+  if (scripted_) scripted_->setSilent(silent);
+  else if (input_) input_->setSilent(silent);
+  else throw std::logic_error("no device yet: start() first");
+}
+
+void Session::resetGrasp() {
+  if (loop_) loop_->send(servo::ServoCommand{servo::ServoCommand::Kind::ResetGrasp, false});
+}
+
+}  // namespace hg::freecad

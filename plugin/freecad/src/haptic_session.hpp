@@ -1,0 +1,91 @@
+#pragma once
+// What the FreeCAD workbench drives: parts (BREP text in mm, placed by FreeCAD Placements),
+// a device, and the real servo loop; snapshots come back in FreeCAD's units. No Python
+// here: module.cpp binds it. Conversions go through freecad_boundary.hpp only.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "freecad_boundary.hpp"
+#include "hand_input_device.hpp"
+#include "hapticgrasp/geometry/mass_properties.hpp"
+#include "hapticgrasp/geometry/part_model.hpp"
+#include "hapticgrasp/servo/scripted_hand_device.hpp"
+#include "hapticgrasp/servo/servo_loop.hpp"
+
+namespace hg::freecad {
+
+// A part's summary for the report view (mm, kg).
+struct PartInfo {
+  std::string name;
+  int faces = 0;
+  double volume_mm3 = 0;
+  double mass_kg = 0;
+  std::array<double, 3> centre_mm{0, 0, 0};
+  std::string primitive;
+  std::vector<std::string> warnings;
+};
+
+// Parses BREP text (mm, Placement reset) into a validated part; throws GeometryError.
+geometry::PartModelPtr loadPart(const std::string& brep, const std::string& name);
+PartInfo describe(const geometry::PartModel& part, const geometry::MassSpec& mass);
+
+struct SessionSnapshot {
+  std::uint64_t tick = 0;
+  double time_s = 0;
+  std::string state = "FREE";
+  int graspedPart = -1;
+  std::uint32_t events = 0;            // OR of the events since the previous snapshot()
+  std::vector<std::string> eventNames;
+  bool eventsLost = false;
+  std::string fault = "none";          // active watchdog fault
+  std::uint64_t faults = 0;            // watchdog trips since start
+  std::vector<Placement> placements;   // every part, mm + quaternion
+};
+
+class Session {
+ public:
+  Session() = default;
+  ~Session();
+
+  // Before start(). Returns the part's index. Throws GeometryError / std::invalid_argument.
+  int addPart(const std::string& name, const std::string& brep, const Placement& placement,
+              const geometry::MassSpec& mass);
+  std::size_t partCount() const { return parts_.size(); }
+  const PartInfo& partInfo(std::size_t i) const { return infos_.at(i); }
+
+  // The device: a scripted hand (keys in mm, `frame` places the script's frame; key turns
+  // are about the vertical through pivot_mm, absolute frame).
+  void setHandScript(const std::vector<HandKeyMm>& keys, const Placement& frame,
+                     const std::array<double, 3>& pivot_mm);
+  double scriptDuration() const;
+  // Or: a hand the front end sets (setHand, mm); silent after hold_s without a new hand.
+  void useHandInput(double hold_s = 0.5);
+  void setHand(const std::array<double, 3>& index_mm, const std::array<double, 3>& thumb_mm,
+               const std::array<double, 3>& wrist_mm);
+  std::string deviceName() const;
+
+  void start(double rate_hz = 1000, bool realtime = false);
+  void stop() noexcept;
+  bool running() const { return loop_ && loop_->running(); }
+
+  SessionSnapshot snapshot();
+
+  // Fault injection for tests and demos: the device goes silent (or speaks again).
+  void setDeviceSilent(bool silent);
+  void resetGrasp();
+
+ private:
+  std::vector<grasp::ScenePart> parts_;
+  std::vector<PartInfo> infos_;
+  std::unique_ptr<grasp::HandScript> script_;
+  double handHold_s_ = 0;  // > 0: the hand input device was chosen
+  std::shared_ptr<servo::ScriptedHandDevice> scripted_;
+  std::shared_ptr<HandInputDevice> input_;
+  std::unique_ptr<servo::ServoLoop> loop_;
+  std::unique_ptr<servo::ServoSnapshot> snap_ = std::make_unique<servo::ServoSnapshot>();
+  servo::SnapshotReader reader_;
+};
+
+}  // namespace hg::freecad

@@ -1,0 +1,145 @@
+// _hapticgrasp: the thin pybind11 binding of the FreeCAD workbench. Lengths cross it in
+// mm (FreeCAD's unit); freecad_boundary.cpp converts them, nothing here does. Long calls
+// (parsing and validating B-reps, starting/stopping the servo thread) release the GIL.
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <optional>
+
+#include "freecad_boundary.hpp"
+#include "haptic_session.hpp"
+#include "hapticgrasp/geometry/geometry_error.hpp"
+
+namespace py = pybind11;
+using namespace hg;
+using hg::freecad::Placement;
+
+namespace {
+
+Placement placementFrom(const std::array<double, 3>& base_mm, const std::array<double, 4>& quaternion) {
+  return Placement{base_mm, quaternion};
+}
+
+py::tuple toTuple(const Placement& p) {
+  return py::make_tuple(py::make_tuple(p.base_mm[0], p.base_mm[1], p.base_mm[2]),
+                        py::make_tuple(p.quaternion[0], p.quaternion[1], p.quaternion[2], p.quaternion[3]));
+}
+
+geometry::MassSpec massSpec(std::optional<double> density, std::optional<double> mass) {
+  if (density && mass) throw std::invalid_argument("give a density or a mass, not both");
+  if (mass) return geometry::MassSpec::mass(*mass);
+  return geometry::MassSpec::density(density.value_or(1000.0));
+}
+
+py::dict infoDict(const freecad::PartInfo& info) {
+  py::dict d;
+  d["name"] = info.name;
+  d["faces"] = info.faces;
+  d["volume_mm3"] = info.volume_mm3;
+  d["mass_kg"] = info.mass_kg;
+  d["centre_mm"] = py::make_tuple(info.centre_mm[0], info.centre_mm[1], info.centre_mm[2]);
+  d["primitive"] = info.primitive;
+  d["warnings"] = info.warnings;
+  return d;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_hapticgrasp, m) {
+  m.doc() = "HapticGrasp core for the FreeCAD workbench (lengths in mm, quaternions as FreeCAD's Rotation.Q)";
+  py::register_exception<geometry::GeometryError>(m, "GeometryError", PyExc_ValueError);
+
+  m.def(
+      "part_info",
+      [](const std::string& brep, const std::string& name, std::optional<double> density, std::optional<double> mass) {
+        const geometry::MassSpec spec = massSpec(density, mass);
+        freecad::PartInfo info;
+        {
+          py::gil_scoped_release release;
+          info = freecad::describe(*freecad::loadPart(brep, name), spec);
+        }
+        return infoDict(info);
+      },
+      py::arg("brep"), py::arg("name") = "part", py::arg("density") = py::none(), py::arg("mass") = py::none(),
+      "Validate BREP text (mm, Placement reset) and return faces, volume_mm3, mass_kg, centre_mm, primitive, warnings. "
+      "Raises GeometryError (a ValueError) for a shape that cannot be grasped.");
+
+  py::class_<freecad::Session>(m, "Session")
+      .def(py::init<>())
+      .def(
+          "add_part",
+          [](freecad::Session& s, const std::string& name, const std::string& brep, const std::array<double, 3>& base_mm,
+             const std::array<double, 4>& quaternion, std::optional<double> density, std::optional<double> mass) {
+            const geometry::MassSpec spec = massSpec(density, mass);
+            const Placement placement = placementFrom(base_mm, quaternion);
+            py::gil_scoped_release release;
+            return s.addPart(name, brep, placement, spec);
+          },
+          py::arg("name"), py::arg("brep"), py::arg("base_mm"), py::arg("quaternion"), py::arg("density") = py::none(),
+          py::arg("mass") = py::none(), "Add a part (BREP text in mm without Placement); returns its index.")
+      .def("part_count", &freecad::Session::partCount)
+      .def("part_info", [](const freecad::Session& s, std::size_t i) { return infoDict(s.partInfo(i)); })
+      .def(
+          "set_hand_script",
+          [](freecad::Session& s, const std::vector<py::tuple>& keys, const std::array<double, 3>& frame_base_mm,
+             const std::array<double, 4>& frame_quaternion, std::optional<std::array<double, 3>> pivot_mm) {
+            std::vector<freecad::HandKeyMm> k;
+            for (const auto& key : keys) {
+              if (key.size() != 6) throw std::invalid_argument("a hand key is (t, index_mm, thumb_mm, wrist_mm, shift_mm, turn)");
+              freecad::HandKeyMm h;
+              h.t = key[0].cast<double>();
+              h.index_mm = key[1].cast<std::array<double, 3>>();
+              h.thumb_mm = key[2].cast<std::array<double, 3>>();
+              h.wrist_mm = key[3].cast<std::array<double, 3>>();
+              h.shift_mm = key[4].cast<std::array<double, 3>>();
+              h.turn = key[5].cast<double>();
+              k.push_back(h);
+            }
+            s.setHandScript(k, placementFrom(frame_base_mm, frame_quaternion), pivot_mm.value_or(frame_base_mm));
+          },
+          py::arg("keys"), py::arg("frame_base_mm") = std::array<double, 3>{0, 0, 0},
+          py::arg("frame_quaternion") = std::array<double, 4>{0, 0, 0, 1}, py::arg("pivot_mm") = py::none(),
+          "The device: a scripted hand. keys: (t_s, index_mm, thumb_mm, wrist_mm, shift_mm, turn_rad) tuples; "
+          "turns are about the vertical through pivot_mm (default: the frame's origin).")
+      .def("script_duration", &freecad::Session::scriptDuration)
+      .def("use_hand_input", &freecad::Session::useHandInput, py::arg("hold_s") = 0.5,
+           "The device: a hand set with set_hand(); silent hold_s after the last set_hand().")
+      .def("set_hand", &freecad::Session::setHand, py::arg("index_mm"), py::arg("thumb_mm"), py::arg("wrist_mm"),
+           "Any one thread: the hand now (absolute frame, mm); lock-free.")
+      .def_property_readonly("device_name", &freecad::Session::deviceName)
+      .def("start", &freecad::Session::start, py::arg("rate_hz") = 1000.0, py::arg("realtime") = false,
+           py::call_guard<py::gil_scoped_release>())
+      .def("stop", &freecad::Session::stop, py::call_guard<py::gil_scoped_release>())
+      .def_property_readonly("running", &freecad::Session::running)
+      .def("set_device_silent", &freecad::Session::setDeviceSilent)
+      .def("reset_grasp", &freecad::Session::resetGrasp)
+      .def(
+          "snapshot",
+          [](freecad::Session& s) {
+            const freecad::SessionSnapshot snap = s.snapshot();
+            py::dict d;
+            d["tick"] = snap.tick;
+            d["time_s"] = snap.time_s;
+            d["state"] = snap.state;
+            d["grasped"] = snap.graspedPart;
+            d["events"] = snap.events;
+            d["event_names"] = snap.eventNames;
+            d["events_lost"] = snap.eventsLost;
+            d["fault"] = snap.fault;
+            d["faults"] = snap.faults;
+            py::list placements;
+            for (const auto& p : snap.placements) placements.append(toTuple(p));
+            d["placements"] = placements;
+            return d;
+          },
+          "state, grasped part, events since the previous snapshot, watchdog fault, and every part's "
+          "placement as ((x, y, z) mm, (qx, qy, qz, qw)).");
+
+  py::dict events;
+  for (int bit = 0; bit < grasp::kEventCount; ++bit)
+    events[grasp::eventName(static_cast<grasp::GraspEvent>(1u << bit))] = 1u << bit;
+  events["watchdog trip"] = static_cast<std::uint32_t>(servo::kWatchdogTrip);
+  events["watchdog clear"] = static_cast<std::uint32_t>(servo::kWatchdogClear);
+  m.attr("EVENTS") = events;
+}

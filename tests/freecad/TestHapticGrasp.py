@@ -1,0 +1,255 @@
+"""HapticGrasp in real FreeCAD (freecadcmd), no mocks: parts from resources/parts as
+document objects, the real servo thread driven by a scripted hand, and the document
+updated by HapticSession.tick() as the GUI timer would.
+
+Run: `freecadcmd -t TestHapticGrasp` with the built package in the Mod folder
+(tests/freecad/run_freecadcmd.sh does that in a throw-away HOME)."""
+import os
+import sys
+import time
+import unittest
+
+import FreeCAD as App
+import Part
+
+# FreeCAD puts the package folder (Mod/HapticGrasp) on sys.path; import it as a package.
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.realpath(__file__))))
+from HapticGrasp import _hapticgrasp as core  # noqa: E402
+from HapticGrasp import session as hs  # noqa: E402
+
+RESOURCES = os.environ.get("HG_RESOURCES_DIR", "")
+TICK_S = 1.0 / 50  # the GUI timer's period
+
+
+def read_part(name):
+    shape = Part.Shape()
+    shape.importBrep(os.path.join(RESOURCES, "parts", name + ".brep"))
+    return shape
+
+
+def run(session, until_s, on_tick=None):
+    """Call tick() at the GUI timer's rate for until_s seconds of servo time; returns the
+    states seen, in order, without repeats."""
+    states = []
+    deadline = time.monotonic() + until_s + 5.0
+    while time.monotonic() < deadline:
+        snap = session.tick()
+        if not states or states[-1] != snap["state"]:
+            states.append(snap["state"])
+        if on_tick:
+            on_tick(snap)
+        if snap["time_s"] >= until_s or not session.running:
+            break
+        time.sleep(TICK_S)
+    return states
+
+
+class HapticGraspDocument(unittest.TestCase):
+    def setUp(self):
+        self.assertTrue(os.path.isdir(RESOURCES), "HG_RESOURCES_DIR not set: " + RESOURCES)
+        self.doc = App.newDocument("HapticGraspTest")
+        self.doc.UndoMode = 1  # freecadcmd has undo off
+        self.cylinder = self.doc.addObject("Part::Feature", "Cylinder")
+        self.cylinder.Shape = read_part("cylinder")
+        # The paper's pose: axis along y, at (400, 0, 300) mm; 2 kg.
+        self.cylinder.Placement = App.Placement(App.Vector(400, 0, 300), App.Rotation(App.Vector(1, 0, 0), -90))
+        self.cylinder.addProperty("App::PropertyFloat", "HapticDensity", "Haptic")
+        self.cylinder.HapticDensity = 2.0 / self.cylinder.Shape.Volume * 1e9  # kg/m^3 for 2 kg
+        self.block = self.doc.addObject("Part::Feature", "Block")
+        self.block.Shape = read_part("block")
+        self.block.Placement = App.Placement(App.Vector(-500, 0, 0), App.Rotation())
+        self.doc.recompute()
+        self.doc.clearUndos()
+        self.session = None
+
+    def tearDown(self):
+        if self.session is not None:
+            self.session.core.stop()
+        App.closeDocument(self.doc.Name)
+
+    def make_session(self, lift=True, **script):
+        self.session = hs.HapticSession(self.doc)
+        self.assertEqual([o.Name for o in self.session.objects], ["Cylinder", "Block"])
+        mass = self.session.core.part_info(0)["mass_kg"]
+        self.assertAlmostEqual(mass, 2.0, places=6)
+        keys, frame = hs.demo_script(self.cylinder, lift=lift, **script)
+        self.session.use_hand_script(keys, frame)
+        return self.session
+
+    def test_grasp_lift_move_release_moves_the_placement_and_one_undo_restores_it(self):
+        before = App.Placement(self.cylinder.Placement)
+        block_before = App.Placement(self.block.Placement)
+        s = self.make_session()
+        s.start()
+        states = run(s, s.core.script_duration() + 0.2)
+        s.stop()
+        self.assertEqual(states[-1], "FREE", states)
+        self.assertIn("MANIPULATE", states)
+        self.assertEqual(s.moves, 1)
+        moved = self.cylinder.Placement.Base - before.Base
+        print("moved by (%.3f, %.3f, %.3f) mm, states %s" % (moved.x, moved.y, moved.z, states))
+        # The script carries the hand by (0, 100, 0) mm and puts the part down at its height.
+        self.assertAlmostEqual(moved.x, 0.0, delta=0.5)
+        self.assertAlmostEqual(moved.y, 100.0, delta=0.5)
+        self.assertAlmostEqual(moved.z, 0.0, delta=0.5)
+        self.assertTrue(self.cylinder.Placement.Rotation.isSame(before.Rotation, 1e-3))
+        self.assertTrue(hs.same_placement(self.block.Placement, block_before, 1e-12))
+        self.assertEqual(self.doc.UndoNames, ["Haptic move Cylinder"])
+        self.doc.undo()
+        self.assertTrue(hs.same_placement(self.cylinder.Placement, before), self.cylinder.Placement)
+        self.assertEqual(self.doc.UndoCount, 0)
+
+    def test_turning_the_hand_turns_the_part(self):
+        before = App.Placement(self.cylinder.Placement)
+        s = self.make_session(move_mm=(0.0, 0.0, 0.0), turn_rad=0.5)
+        s.start()
+        run(s, s.core.script_duration() + 0.2)
+        s.stop()
+        self.assertEqual(s.moves, 1)
+        expected = App.Rotation(App.Vector(0, 0, 1), 0.5 * 180 / 3.141592653589793).multiply(before.Rotation)
+        after = self.cylinder.Placement
+        print("turned: %s -> %s" % (before.Rotation.Q, after.Rotation.Q))
+        self.assertFalse(before.Rotation.isSame(expected, 1e-3))  # the check below can fail
+        self.assertTrue(after.Rotation.isSame(expected, 1e-3), (after.Rotation.Q, expected.Q))
+        self.assertLess((after.Base - before.Base).Length, 0.5)
+
+    def test_a_manipulation_between_two_ticks_is_still_one_undo_step(self):
+        # A GUI busy for the whole manipulation: one tick sees lift and release together.
+        before = App.Placement(self.cylinder.Placement)
+        s = self.make_session()
+        s.start()
+        time.sleep(s.core.script_duration() + 0.3)
+        snap = s.tick()
+        s.stop()
+        self.assertEqual(snap["state"], "FREE")
+        self.assertIn("lift", snap["event_names"])
+        self.assertIn("release", snap["event_names"])
+        moved = self.cylinder.Placement.Base - before.Base
+        self.assertAlmostEqual(moved.y, 100.0, delta=0.5)
+        self.assertEqual(self.doc.UndoNames, ["Haptic move Cylinder"])
+        self.doc.undo()
+        self.assertTrue(hs.same_placement(self.cylinder.Placement, before))
+
+    def test_release_from_grasp_leaves_the_document_unchanged(self):
+        before = App.Placement(self.cylinder.Placement)
+        s = self.make_session(lift=False)
+        s.start()
+        states = run(s, s.core.script_duration() + 0.2)
+        s.stop()
+        self.assertIn("GRASP", states)
+        self.assertNotIn("MANIPULATE", states)
+        self.assertEqual(states[-1], "FREE", states)
+        self.assertTrue(hs.same_placement(self.cylinder.Placement, before, 0.0))
+        self.assertEqual(self.doc.UndoCount, 0)
+        self.assertEqual(s.moves, 0)
+
+    def test_a_non_solid_is_skipped_with_one_warning(self):
+        face = self.doc.addObject("Part::Feature", "Sheet")
+        face.Shape = Part.makePlane(100, 100)
+        hidden = self.doc.addObject("Part::Feature", "Hidden")
+        hidden.Shape = Part.makeBox(10, 10, 10)
+        hidden.Visibility = False
+        self.session = hs.HapticSession(self.doc)
+        self.assertEqual([o.Name for o in self.session.objects], ["Cylinder", "Block"])
+        self.assertEqual(len(self.session.messages), 1, self.session.messages)
+        self.assertIn("Sheet", self.session.messages[0])
+        self.assertIn("not a solid", self.session.messages[0])
+        info = self.session.core.part_info(1)
+        self.assertEqual(info["faces"], 58)
+        self.assertAlmostEqual(info["volume_mm3"], self.block.Shape.Volume, delta=1e-6 * self.block.Shape.Volume)
+
+    def test_a_device_fault_mid_manipulation_aborts_and_restores_the_placement(self):
+        before = App.Placement(self.cylinder.Placement)
+        s = self.make_session()
+        seen = {"moved": False}
+
+        def silence_when_carrying(snap):
+            # Silence the device once the part has visibly moved in the document.
+            if s.active is not None and (self.cylinder.Placement.Base - before.Base).Length > 5.0:
+                seen["moved"] = True
+                s.core.set_device_silent(True)
+
+        s.start()
+        states = run(s, s.core.script_duration(), on_tick=silence_when_carrying)
+        self.assertTrue(seen["moved"], states)
+        self.assertFalse(s.running)
+        self.assertEqual(s.aborted, 1)
+        self.assertEqual(s.moves, 0)
+        self.assertIsNone(s.active)
+        self.assertTrue(hs.same_placement(self.cylinder.Placement, before), self.cylinder.Placement)
+        self.assertEqual(self.doc.UndoCount, 0)
+        self.assertEqual(len(s.messages), 1, s.messages)
+        self.assertIn("device fault (silent)", s.messages[0])
+        self.assertIn("Cylinder", s.messages[0])
+
+    def hand_at(self, keys, frame, t):
+        """The demo hand at time t (linear between keys; no turn), document mm."""
+        def lerp(a, b, u):
+            return tuple(x + (y - x) * u for x, y in zip(a, b))
+        t = min(max(t, keys[0][0]), keys[-1][0])
+        for k0, k1 in zip(keys, keys[1:]):
+            if k0[0] <= t <= k1[0]:
+                u = (t - k0[0]) / (k1[0] - k0[0]) if k1[0] > k0[0] else 1.0
+                break
+        base = (frame.Base.x, frame.Base.y, frame.Base.z)
+        shift = lerp(k0[4], k1[4], u)
+        return [tuple(b + p + s for b, p, s in zip(base, lerp(k0[i], k1[i], u), shift)) for i in (1, 2, 3)]
+
+    def feed_hand(self, s, keys, frame, until_s, stop_feeding_when=None):
+        """Feed the hand at ~200 Hz and tick the document at ~50 Hz for until_s seconds."""
+        start = time.monotonic()
+        states, n = [], 0
+        while time.monotonic() - start < until_s + 5.0 and s.running:
+            t = time.monotonic() - start
+            if t > until_s:
+                break
+            if not (stop_feeding_when and stop_feeding_when()):
+                s.set_hand(*self.hand_at(keys, frame, t))
+            if n % 4 == 0:
+                state = s.tick()["state"]
+                if not states or states[-1] != state:
+                    states.append(state)
+            n += 1
+            time.sleep(0.005)
+        s.tick()
+        return states
+
+    def test_a_hand_fed_from_python_moves_the_part(self):
+        before = App.Placement(self.cylinder.Placement)
+        self.session = s = hs.HapticSession(self.doc)
+        s.use_hand_input(hold_s=0.5)
+        self.assertEqual(s.core.device_name, "hand input")
+        keys, frame = hs.demo_script(self.cylinder, move_mm=(80.0, 0.0, 0.0))
+        s.start()
+        states = self.feed_hand(s, keys, frame, keys[-1][0] + 0.2)
+        s.stop()
+        self.assertIn("MANIPULATE", states)
+        self.assertEqual(states[-1], "FREE", states)
+        moved = self.cylinder.Placement.Base - before.Base
+        print("hand input: moved by (%.3f, %.3f, %.3f) mm" % (moved.x, moved.y, moved.z))
+        self.assertAlmostEqual(moved.x, 80.0, delta=0.5)
+        self.assertAlmostEqual(moved.y, 0.0, delta=0.5)
+        self.assertAlmostEqual(moved.z, 0.0, delta=0.5)
+        self.assertEqual(self.doc.UndoNames, ["Haptic move Cylinder"])
+
+    def test_a_hand_that_goes_silent_mid_manipulation_aborts(self):
+        before = App.Placement(self.cylinder.Placement)
+        self.session = s = hs.HapticSession(self.doc)
+        s.use_hand_input(hold_s=0.2)
+        keys, frame = hs.demo_script(self.cylinder)
+
+        def carrying():
+            return s.active is not None and (self.cylinder.Placement.Base - before.Base).Length > 5.0
+
+        s.start()
+        self.feed_hand(s, keys, frame, keys[-1][0], stop_feeding_when=carrying)
+        self.assertFalse(s.running)
+        self.assertEqual(s.aborted, 1)
+        self.assertTrue(hs.same_placement(self.cylinder.Placement, before), self.cylinder.Placement)
+        self.assertEqual(self.doc.UndoCount, 0)
+        self.assertEqual(len(s.messages), 1, s.messages)
+        self.assertIn("device fault (silent)", s.messages[0])
+
+    def test_a_broken_part_is_refused_with_a_clear_error(self):
+        with self.assertRaises(ValueError):
+            core.part_info("DBRep_DrawableShape\nCASCADE Topology V1, (c) Matra-Datavision\nLocations 3\n")
