@@ -1,5 +1,6 @@
 #include "device_commands.hpp"
 
+#include <cstdio>
 #include <iostream>
 
 #include "hapticgrasp/device/device_discovery.hpp"
@@ -20,12 +21,22 @@ int listDevices() {
   return 0;
 }
 
-int benchServo(double rate_hz, double seconds, bool json) {
-  const servo::ServoBenchResult r = servo::runServoBench(rate_hz, seconds, true, &servo::threadAllocations);
+int benchServo(double rate_hz, double seconds, const std::string& part, const std::string& device,
+               const std::string& backend, bool json) {
+  servo::ServoBenchOptions options;
+  options.rate_hz = rate_hz;
+  options.seconds = seconds;
+  options.realtime = true;
+  options.part = part;
+  options.device = device;
+  options.backend = backend;
+  options.allocationCounter = &servo::threadAllocations;
+  const servo::ServoBenchResult r = servo::runServoBench(options);
   if (json) {
     std::cout << servo::toJson(r) << std::endl;
     return 0;
   }
+  std::printf("servo loop: part %s, device %s, back end %s\n", r.part.c_str(), r.device.c_str(), r.backend.c_str());
   std::printf("servo loop: target %.0f Hz, achieved %.1f Hz over %.1f s; %s, %s\n", r.target_hz, r.achieved_hz,
               r.seconds, r.scheduler.c_str(), r.memory_lock.c_str());
   std::printf("  period error us  p50 %.2f  p99 %.2f  max %.2f\n", r.period_err.p50_us, r.period_err.p99_us, r.period_err.max_us);

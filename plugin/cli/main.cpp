@@ -2,11 +2,15 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <fstream>
 #include <iostream>
+#include <stdexcept>
+#include <utility>
 
 #include "hapticgrasp/geometry/backends.hpp"
 #include "hapticgrasp/geometry/sample_parts.hpp"
 #include "hapticgrasp/grasp/grasp_cylinder_experiment.hpp"
+#include "hapticgrasp/grasp/shake_experiment.hpp"
 #include "device_commands.hpp"
 #include "penetration_ladder.hpp"
 
@@ -63,6 +67,34 @@ int graspCylinder(double rate_hz, bool json) {
   return 0;
 }
 
+// The resultant-force paper's experiment (section 6): both methods, Tables 1-2's figures,
+// optionally Fig. 8 as SVG.
+int shake(bool json, const std::string& plotFile) {
+  const grasp::ShakeResult r = grasp::runShakeExperiment();
+  if (!plotFile.empty()) {
+    std::ofstream out(plotFile);
+    out << grasp::toSvg(r);
+    if (!out) throw std::runtime_error("could not write " + plotFile);
+  }
+  if (json) {
+    std::cout << grasp::toJson(r) << std::endl;
+    return 0;
+  }
+  const grasp::ShakeConfig& c = r.config;
+  std::printf("shake: block %.0f x %.0f cm, %.3g kg, g = %.2g m/s^2, springs %.0f N/m, friction %.2g\n",
+              100 * c.width, 100 * c.height, c.mass, c.gravity, c.stiffness, c.friction);
+  std::printf("  subject: target grasping force %.3g N; %d shakes of %.0f mm peak to peak at %.3g Hz, then %.3g s rest\n",
+              r.target_grasp_force_N, c.shakes, 2000 * c.amplitude, c.frequency, c.rest);
+  std::printf("  %-13s %12s %12s %12s %12s %12s\n", "method", "f_g mean N", "f_g std N", "dist mean cm",
+              "dist std cm", "max |f_r| N");
+  for (const auto& [name, m] : {std::pair<const char*, const grasp::ShakeMethodResult&>{"conventional", r.conventional},
+                                {"proposed", r.proposed}})
+    std::printf("  %-13s %12.3f %12.3f %12.3f %12.4f %12.3f\n", name, m.grasp_force_mean_N, m.grasp_force_std_N,
+                100 * m.distance_mean_m, 100 * m.distance_std_m, m.resultant_max_N);
+  if (!plotFile.empty()) std::printf("  plot: %s\n", plotFile.c_str());
+  return 0;
+}
+
 // The demonstration: the paper's grasp scenario, then the penetration ladder (fewer
 // queries) on the paper's cylinder and the machined block.
 int demo() {
@@ -107,10 +139,20 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"exact", "analytic", "mesh", "field"}));
   penetration->add_flag("--json", json, "Print JSON");
 
-  CLI::App* servoBench = bench->add_subcommand("servo", "The real servo thread: a scripted hand grasps and lifts a part");
+  CLI::App* servoBench =
+      bench->add_subcommand("servo", "The real servo thread: the simulated arm (or a scripted hand) grasps and lifts a part");
   double servoRate = 2000.0, servoSeconds = 2.0;
+  std::string servoPart = "cylinder", servoDevice = "arm", servoBackend = "auto";
   servoBench->add_option("--rate", servoRate, "Servo rate, Hz (50-10000)")->capture_default_str();
   servoBench->add_option("--seconds", servoSeconds, "How long to run")->capture_default_str();
+  servoBench->add_option("--part", servoPart, "Sample part (cylinder, block, loft, plate) or a .brep/.step file (mm)")
+      ->capture_default_str();
+  servoBench->add_option("--device", servoDevice, "Who holds the part: the simulated master arm or a scripted hand")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"arm", "scripted"}));
+  servoBench->add_option("--backend", servoBackend, "Penetration back end (auto: analytic for primitives, exact otherwise)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "exact", "analytic", "mesh"}));
   servoBench->add_flag("--json", json, "Print JSON");
 
   CLI::App* devices = app.add_subcommand("devices", "List HID devices and which back end or layout matches each");
@@ -122,6 +164,11 @@ int main(int argc, char** argv) {
       experiment->add_subcommand("grasp-cylinder", "Maekawa & Hollerbach's grasp of the 2 kg cylinder (Fig. 6)");
   graspCylinderCmd->add_option("--rate", rate_hz, "Servo rate, Hz")->capture_default_str()->check(CLI::PositiveNumber);
   graspCylinderCmd->add_flag("--json", json, "Print JSON");
+  std::string shakePlot;
+  CLI::App* shakeCmd = experiment->add_subcommand(
+      "shake", "The resultant-force paper's shaking experiment (section 6): conventional vs proposed");
+  shakeCmd->add_flag("--json", json, "Print JSON");
+  shakeCmd->add_option("--plot", shakePlot, "Write grasping force and finger distance against time (Fig. 8) as SVG");
 
   CLI::App* parts = app.add_subcommand("parts", "Inspect parts");
   parts->require_subcommand(1);
@@ -135,7 +182,8 @@ int main(int argc, char** argv) {
     if (penetration->parsed()) return benchPenetration(ladder, json);
     if (info->parsed()) return partInfo(partName);
     if (graspCylinderCmd->parsed()) return graspCylinder(rate_hz, json);
-    if (servoBench->parsed()) return cli::benchServo(servoRate, servoSeconds, json);
+    if (shakeCmd->parsed()) return shake(json, shakePlot);
+    if (servoBench->parsed()) return cli::benchServo(servoRate, servoSeconds, servoPart, servoDevice, servoBackend, json);
     if (devices->parsed()) return cli::listDevices();
   } catch (const std::exception& e) {  // GeometryError, HidError, invalid_argument: one line
     std::cerr << "hapticgrasp: " << e.what() << std::endl;

@@ -4,14 +4,18 @@
 #include <gp_Ax2.hxx>
 
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <stdexcept>
 #include <thread>
 
+#include "hapticgrasp/device/simulated_operator.hpp"
+#include "hapticgrasp/geometry/sample_parts.hpp"
 #include "hapticgrasp/grasp/hand_script.hpp"
 #include "hapticgrasp/servo/scripted_hand_device.hpp"
+#include "servo/advancing_device.hpp"
 
 namespace hg::servo {
 namespace {
@@ -66,19 +70,206 @@ grasp::HandScript benchScript() {
   return grasp::HandScript(std::move(keys), grasp::PartPose{Mat3::Identity(), cylinderPose().position});
 }
 
-ServoBenchResult runServoBench(double rate_hz, double seconds, bool realtime, AllocationCounter allocationCounter) {
-  if (!(seconds > 0 && seconds <= 3600)) throw std::invalid_argument("bench seconds must be in (0, 3600]");
-  ServoConfig config;
-  config.rate_hz = rate_hz;
-  config.realtime = realtime;
-  config.allocationCounter = allocationCounter;
-  config.validate();
+namespace {
 
+// Where the fingertips meet a part grasped across its y sides (part frame): through the
+// point `centre` (x centre of the bounds, y centre, mid-height), the surface first met
+// coming in from outside is at centre + plus * y and centre - minus * y. On a tall part the
+// fingertips go no lower than 25 mm below its top.
+struct GraspGeometry {
+  Vec3 centre = Vec3::Zero();
+  double plus = 0, minus = 0;
+};
+
+GraspGeometry graspGeometry(const geometry::PartModel& model, const geometry::PenetrationModel& penetration) {
+  const geometry::Aabb b = model.bounds();
+  GraspGeometry g;
+  g.centre = b.centre();
+  g.centre.z() = std::min(g.centre.z(), b.max.z() - 0.025);
+  const auto surface = [&](double sign) {
+    const double outside = (sign > 0 ? b.max.y() - g.centre.y() : g.centre.y() - b.min.y()) + 0.01;
+    for (double s = outside; s > 0; s -= 0.1e-3) {
+      geometry::QueryState q;
+      if (penetration.query(g.centre + sign * s * Vec3::UnitY(), q).depth > 0) return s;
+    }
+    throw std::invalid_argument("bench servo: part '" + model.name() + "' has no material across y at its centre");
+  };
+  g.plus = surface(+1);
+  g.minus = surface(-1);
+  return g;
+}
+
+// The operator lags the path by 0.1-0.2 s and the thumb closes less than the index, so the
+// closed targets lie deep inside, the thumb's deepest (the contact forces are a few newtons at most: the
+// operator squeezes until the grasp); the hand opens to about 10 cm at most.
+constexpr double kArmClearance = 0.015; // open fingertips this far outside the surface
+constexpr double kArmSqueezeIndex = 0.015;  // closed targets this far inside
+constexpr double kArmSqueezeThumb = 0.04;
+constexpr double kArmFingerFirmness = 10;
+constexpr double kArmDrop = 0.04;       // the open hand comes down this far onto the part
+constexpr double kArmReach_s = 0.25;    // from the arm's rest pose to above the part
+constexpr double kArmCycleEnd_s = 1.95; // then a cycle of 1.7 s, repeated
+constexpr double kArmPeriod_s = kArmCycleEnd_s - kArmReach_s;
+
+double armPhase(double t) { return t < kArmCycleEnd_s ? t : kArmReach_s + std::fmod(t - kArmReach_s, kArmPeriod_s); }
+
+struct BenchSetup {
+  std::shared_ptr<device::Device> device;
+  grasp::ScenePtr scene;
+  std::function<double()> phase;  // script time within the cycle, read from the bench's thread
+  double resetFrom = 0, resetTo = 0, rearmBelow = 0;  // the ResetGrasp window
+};
+
+BenchSetup armSetup(const geometry::PartModelPtr& model, const geometry::MassSpec& mass, geometry::Backend backend) {
+  // Where the arm's hand rests: the part goes below it.
+  const device::ArmPose rest = device::SimulatedMasterArm().pose();
+  const Vec3 m0 = 0.5 * (rest.index + rest.thumb);
+  Vec3 u = rest.index - rest.thumb;
+  u.z() = 0;
+  u = u.norm() > 1e-6 ? Vec3(u.normalized()) : Vec3(Vec3::UnitY());
+  const Vec3 wristOffset = rest.wrist - m0;
+
+  grasp::ScenePart part = grasp::makeScenePart(model, mass, {}, backend);
+  const GraspGeometry g = graspGeometry(*model, *part.penetration);
+  // Part y along the grip axis u (index side +y), part x horizontal.
+  grasp::PartPose pose;
+  pose.rotation = Eigen::AngleAxisd(std::atan2(u.y(), u.x()) - std::numbers::pi / 2, Vec3::UnitZ()).toRotationMatrix();
+  const Vec3 G = m0 - Vec3(0, 0, kArmDrop);  // the grasp centre, absolute
+  pose.position = G - pose.rotation * g.centre;
+  part.initialPose = pose;
+  auto scene = std::make_shared<const grasp::Scene>(std::vector<grasp::ScenePart>{part});
+
+  const grasp::GraspParameters k;
+  const double sag = part.mass.mass_kg * k.gravity.norm() / k.K_ox;
+  // At rest the thumb tip sits higher than the index tip and the operator never quite
+  // levels the hand: aim the thumb that much lower than the index (the tips end up close
+  // to level, around the grasp height).
+  const double tilt = std::clamp(rest.thumb.z() - rest.index.z(), -0.02, 0.02);
+  const auto hand = [&](double index, double thumb, const Vec3& centre) {
+    device::HandTarget h;
+    h.index = centre + index * u + Vec3(0, 0, 0.5 * tilt);
+    h.thumb = centre - thumb * u - Vec3(0, 0, 0.5 * tilt);
+    h.wrist = 0.5 * (h.index + h.thumb) + wristOffset;
+    return h;
+  };
+  const double openP = g.plus + kArmClearance, openM = g.minus + kArmClearance;
+  // The thumb aims past the centre: against the index's contact force it closes the least.
+  const double inP = std::max(0.003, g.plus - kArmSqueezeIndex), inM = g.minus - kArmSqueezeThumb;
+  const Vec3 above = G + Vec3(0, 0, kArmDrop), lifted = G + Vec3(0, 0, 0.05), down = G + Vec3(0, 0, sag);
+  std::vector<device::HandKeyframe> keys = {
+      {0.00, {rest.index, rest.thumb, rest.wrist}},
+      {kArmReach_s, hand(openP, openM, above)},  // open, above the part
+      {0.50, hand(openP, openM, G)},             // down, fingertips outside its sides
+      {0.75, hand(inP, inM, G)},                 // close: both fingertips in, grasp
+      {0.95, hand(inP, inM, G)},
+      {1.20, hand(inP, inM, lifted)},            // lift 5 cm
+      {1.32, hand(inP, inM, lifted)},            // hold
+      {1.55, hand(inP, inM, down)},              // put down where it was
+      {1.70, hand(openP, openM, down)},          // open: release
+      {1.85, hand(openP, openM, above)},         // up and away
+      {kArmCycleEnd_s, hand(openP, openM, above)},
+  };
+  device::HandPath path = device::keyframePath(std::move(keys));
+  device::HandPath cyclic = [path](double t) { return path(armPhase(t)); };
+  // A firmer grip than the default operator's: its fingers cannot out-squeeze the grasp's
+  // grip force (K_g, B_g) and the grasp would release at once.
+  device::OperatorGains gains;
+  for (int j = device::kIndexFlexion; j <= device::kThumbFlexion; ++j) {
+    gains.stiffness[j] *= kArmFingerFirmness;
+    gains.damping[j] *= kArmFingerFirmness;
+  }
+  auto arm = std::make_shared<device::SimulatedMasterArm>(device::SimulatedArmOptions{}, std::move(cyclic), gains);
+  auto adapter = std::make_shared<AdvancingArmDevice>(arm);
+  BenchSetup setup;
+  setup.device = adapter;
+  setup.scene = std::move(scene);
+  setup.phase = [adapter] { return armPhase(adapter->simTime()); };
+  setup.resetFrom = 1.87;
+  setup.resetTo = 1.94;
+  setup.rearmBelow = 1.8;
+  return setup;
+}
+
+BenchSetup scriptedSetup(const geometry::PartModelPtr& model, const geometry::MassSpec& mass, geometry::Backend backend,
+                         bool paperCylinder) {
+  grasp::HandScript script = benchScript();
+  grasp::ScenePtr scene;
+  if (paperCylinder) {
+    scene = benchScene();
+  } else {
+    grasp::ScenePart part = grasp::makeScenePart(model, mass, {}, backend);
+    const GraspGeometry g = graspGeometry(*model, *part.penetration);
+    const Vec3 G(0.4, 0.0, 0.3);
+    part.initialPose.position = G - g.centre;
+    scene = std::make_shared<const grasp::Scene>(std::vector<grasp::ScenePart>{part});
+    // benchScript()'s keys, across y and sized for this part.
+    const grasp::GraspParameters k;
+    const double sag = part.mass.mass_kg * k.gravity.norm() / k.K_ox;
+    std::vector<grasp::HandKey> keys;
+    const auto key = [&](double t, double index, double thumb, double z) {
+      keys.push_back({t, {0, g.plus + index, 0}, {0, -g.minus - thumb, 0}, {0, 0, kWristHeight}, Vec3(0, 0, z), 0});
+    };
+    const double open = kClearance, in = -kPenetration, squeezed = in - kSqueeze;
+    key(0.0, open, open, 0);
+    key(0.1, open, open, 0);
+    key(0.3, in, open, 0);
+    key(0.5, in, in, 0);
+    key(0.6, squeezed, squeezed, 0);
+    key(1.0, squeezed, squeezed, kLift);
+    key(1.2, squeezed, squeezed, kLift);
+    key(1.5, squeezed, squeezed, sag);
+    key(1.7, open, open, sag);
+    key(1.8, open, open, 0);
+    key(kCycle_s, open, open, 0);
+    script = grasp::HandScript(std::move(keys), grasp::PartPose{Mat3::Identity(), G});
+  }
   device::DeviceSpec spec = ScriptedHandDevice::defaultSpec();
   spec.maxForce_N = 40;
   spec.maxTorque_Nm = 5;
-  auto device = std::make_shared<ScriptedHandDevice>(benchScript(), spec, /*loop=*/true);
-  ServoLoop loop(device, benchScene(), {}, config);
+  auto device = std::make_shared<ScriptedHandDevice>(std::move(script), spec, /*loop=*/true);
+  BenchSetup setup;
+  setup.device = device;
+  setup.scene = std::move(scene);
+  setup.phase = [device] { return device->scriptTime(); };
+  setup.resetFrom = 1.85;
+  setup.resetTo = 1.98;
+  setup.rearmBelow = 1.8;
+  return setup;
+}
+
+}  // namespace
+
+ServoBenchResult runServoBench(double rate_hz, double seconds, bool realtime, AllocationCounter allocationCounter) {
+  ServoBenchOptions o;
+  o.rate_hz = rate_hz;
+  o.seconds = seconds;
+  o.realtime = realtime;
+  o.part = "cylinder";
+  o.device = "scripted";
+  o.allocationCounter = allocationCounter;
+  return runServoBench(o);
+}
+
+ServoBenchResult runServoBench(const ServoBenchOptions& options) {
+  const double rate_hz = options.rate_hz, seconds = options.seconds;
+  if (!(seconds > 0 && seconds <= 3600)) throw std::invalid_argument("bench seconds must be in (0, 3600]");
+  if (options.device != "arm" && options.device != "scripted")
+    throw std::invalid_argument("bench device must be 'arm' or 'scripted', not '" + options.device + "'");
+  ServoConfig config;
+  config.rate_hz = rate_hz;
+  config.realtime = options.realtime;
+  config.allocationCounter = options.allocationCounter;
+  config.validate();
+
+  const geometry::Backend backend = geometry::parseBackend(options.backend);
+  const geometry::SamplePart sample = geometry::findPart(options.part);
+  const bool paperCylinder = options.device == "scripted" && options.part == "cylinder" && backend == geometry::Backend::Auto;
+  const geometry::PartModelPtr model =
+      paperCylinder ? geometry::PartModelPtr{} : geometry::PartModel::fromFile(sample.file, sample.unit);
+  BenchSetup setup = options.device == "arm" ? armSetup(model, sample.mass, backend)
+                                             : scriptedSetup(model, sample.mass, backend, paperCylinder);
+
+  ServoLoop loop(setup.device, setup.scene, {}, config);
   loop.start();
   const auto start = std::chrono::steady_clock::now();
   const auto end = start + std::chrono::duration<double>(seconds);
@@ -88,18 +279,21 @@ ServoBenchResult runServoBench(double rate_hz, double seconds, bool realtime, Al
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
     // Once per cycle, with the hand open and away, a ResetGrasp puts the part back exactly
     // (the GUI's path into the loop, exercised here too).
-    const double t = device->scriptTime();
-    if (t > 1.85 && t < 1.98 && armed) {
+    const double t = setup.phase();
+    if (t > setup.resetFrom && t < setup.resetTo && armed) {
       loop.send({ServoCommand::Kind::ResetGrasp, false});
       armed = false;
     }
-    if (t < 1.8) armed = true;
+    if (t < setup.rearmBelow) armed = true;
   }
   loop.stop();
   loop.read(snapshot);
 
   ServoBenchResult r;
   const TimingSummary timing = loop.timing();
+  r.part = sample.name;
+  r.device = options.device;
+  r.backend = std::string(setup.scene->part(0).penetration->name());
   r.target_hz = rate_hz;
   r.achieved_hz = timing.achieved_hz;
   r.seconds = seconds;
@@ -109,7 +303,7 @@ ServoBenchResult runServoBench(double rate_hz, double seconds, bool realtime, Al
   r.compute = timing.compute;
   r.ticks = timing.ticks;
   r.overruns = timing.overruns;
-  r.allocations_in_loop = allocationCounter ? snapshot.allocations : -1;
+  r.allocations_in_loop = options.allocationCounter ? snapshot.allocations : -1;
   r.grasps = snapshot.eventTotals[4];  // grasp::kGrasp
   r.lifts = snapshot.eventTotals[5];   // grasp::kLift
   r.watchdog_trips = snapshot.watchdog.trips;
@@ -120,7 +314,10 @@ std::string toJson(const ServoBenchResult& r, int indent) {
   const auto summary = [](const DurationSummary& d) {
     return nlohmann::json{{"p50", d.p50_us}, {"p99", d.p99_us}, {"max", d.max_us}};
   };
-  const nlohmann::json j = {{"target_hz", r.target_hz},
+  const nlohmann::json j = {{"part", r.part},
+                            {"device", r.device},
+                            {"backend", r.backend},
+                            {"target_hz", r.target_hz},
                             {"achieved_hz", r.achieved_hz},
                             {"seconds", r.seconds},
                             {"scheduler", r.scheduler},

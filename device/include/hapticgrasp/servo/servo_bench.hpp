@@ -1,7 +1,20 @@
 #pragma once
 // `hapticgrasp bench servo`: the REAL servo thread at a given rate for a given time, with a
-// ScriptedHandDevice grasping, lifting, carrying and putting down the paper's cylinder
-// (0.1 m x 0.4 m, 2 kg) over and over.
+// hand grasping, lifting and putting down a part over and over:
+//  - device "arm": the simulated master arm (SimulatedMasterArm, KDL dynamics) moved by a
+//    SimulatedOperator; the arm is advanced on the servo thread inside each read() by the
+//    adapter's own clock (servo/advancing_device.hpp), so compute_us includes the arm's
+//    simulation step as well as the grasp and the torque mapping. The part is placed below
+//    the arm's resting hand, turned about z so that its y axis lies along the hand's grip
+//    axis; the fingertips open, come down outside the part's +-y sides at mid-height (at
+//    most 25 mm below the top) and the x centre of its bounds, close (grasp), lift 5 cm,
+//    hold, put it down and open (a 1.7 s cycle after 0.25 s of reaching; the first grasp
+//    comes at about 1 s, the first lift at about 1.2 s). The hand opens to about 10 cm, so a
+//    part wider than that across y (the paper's 0.1 m cylinder) is not straddled: the
+//    fingertips come down onto its top.
+//  - device "scripted": a ScriptedHandDevice replaying a grasp::HandScript; for the
+//    cylinder, the paper's cylinder (0.1 m x 0.4 m, 2 kg) lying along y (benchScene(),
+//    benchScript()); other parts are grasped across their y sides like the arm does.
 //
 // allocations_in_loop: the heap allocations made BY THE SERVO THREAD from its first tick
 // to its last, counted by an AllocationCounter -- a malloc/calloc/realloc interposer with
@@ -15,7 +28,20 @@
 
 namespace hg::servo {
 
+struct ServoBenchOptions {
+  double rate_hz = 2000;
+  double seconds = 2;
+  bool realtime = true;
+  std::string part = "cylinder";  // a sample part (cylinder, block, loft, plate) or a .brep/.step file (mm)
+  std::string device = "arm";     // "arm" | "scripted"
+  std::string backend = "auto";   // penetration back end: auto (analytic for primitives, exact otherwise), exact, analytic, mesh
+  AllocationCounter allocationCounter = nullptr;
+};
+
 struct ServoBenchResult {
+  std::string part;              // the part's name
+  std::string device;            // "arm" | "scripted"
+  std::string backend;           // the penetration back end used ("exact", "analytic", ...)
   double target_hz = 0;
   double achieved_hz = 0;
   double seconds = 0;
@@ -31,11 +57,14 @@ struct ServoBenchResult {
   std::uint64_t watchdog_trips = 0;
 };
 
-// Throws std::invalid_argument for a rate outside [50, 10000] Hz or seconds not in (0, 3600].
+// Throws std::invalid_argument for a rate outside [50, 10000] Hz, seconds not in (0, 3600]
+// or an unknown device; GeometryError for an unknown part or back end.
+ServoBenchResult runServoBench(const ServoBenchOptions& options);
+// The original benchmark: device "scripted", the paper's cylinder.
 ServoBenchResult runServoBench(double rate_hz, double seconds, bool realtime = true,
                                AllocationCounter allocationCounter = nullptr);
 
-// {"target_hz", "achieved_hz", "seconds", "scheduler", "memory_lock",
+// {"part", "device", "backend", "target_hz", "achieved_hz", "seconds", "scheduler", "memory_lock",
 //  "period_err_us": {"p50","p99","max"}, "compute_us": {"p50","p99","max"}, "ticks",
 //  "overruns", "allocations_in_loop", "grasps", "lifts", "watchdog_trips"}
 std::string toJson(const ServoBenchResult& result, int indent = 2);
