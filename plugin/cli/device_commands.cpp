@@ -40,7 +40,10 @@ int benchServo(double rate_hz, double seconds, const std::string& part, const st
   std::printf("servo loop: target %.0f Hz, achieved %.1f Hz over %.1f s; %s, %s\n", r.target_hz, r.achieved_hz,
               r.seconds, r.scheduler.c_str(), r.memory_lock.c_str());
   std::printf("  period error us  p50 %.2f  p99 %.2f  max %.2f\n", r.period_err.p50_us, r.period_err.p99_us, r.period_err.max_us);
-  std::printf("  compute us       p50 %.2f  p99 %.2f  max %.2f\n", r.compute.p50_us, r.compute.p99_us, r.compute.max_us);
+  std::printf("  compute us       p50 %.2f  p99 %.2f  max %.2f   (the loop's own work)\n", r.compute.p50_us,
+              r.compute.p99_us, r.compute.max_us);
+  std::printf("  device I/O us    p50 %.2f  p99 %.2f  max %.2f   (read + write; the simulated arm's physics)\n",
+              r.deviceIo.p50_us, r.deviceIo.p99_us, r.deviceIo.max_us);
   std::printf("  overruns %llu, allocations in the loop %ld, grasps %llu, lifts %llu, watchdog trips %llu\n",
               static_cast<unsigned long long>(r.overruns), r.allocations_in_loop,
               static_cast<unsigned long long>(r.grasps), static_cast<unsigned long long>(r.lifts),

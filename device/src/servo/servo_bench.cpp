@@ -301,6 +301,7 @@ ServoBenchResult runServoBench(const ServoBenchOptions& options) {
   r.memory_lock = loop.memoryLock();
   r.period_err = timing.periodError;
   r.compute = timing.compute;
+  r.deviceIo = timing.deviceIo;
   r.ticks = timing.ticks;
   r.overruns = timing.overruns;
   r.allocations_in_loop = options.allocationCounter ? snapshot.allocations : -1;
@@ -324,6 +325,7 @@ std::string toJson(const ServoBenchResult& r, int indent) {
                             {"memory_lock", r.memory_lock},
                             {"period_err_us", summary(r.period_err)},
                             {"compute_us", summary(r.compute)},
+                            {"device_us", summary(r.deviceIo)},
                             {"ticks", r.ticks},
                             {"overruns", r.overruns},
                             {"allocations_in_loop", r.allocations_in_loop},

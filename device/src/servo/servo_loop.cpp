@@ -200,6 +200,7 @@ void ServoLoop::run() noexcept {
     s.achieved_hz = ticks_ > 1 && lastTick_s_ > firstTick_s_ ? (ticks_ - 1) / (lastTick_s_ - firstTick_s_) : 0;
     s.periodError = periodError_.summary();
     s.compute = compute_.summary();
+    s.deviceIo = deviceIo_.summary();
     return s;
   }();
   publish();
@@ -227,7 +228,9 @@ void ServoLoop::tick(double t, double dt) noexcept {
   const device::DeviceSpec& spec = device_->spec();
   pendingDt_ += dt;
   sampleDt_ += dt;
+  const std::int64_t readStart = nowNs();
   const bool fresh = device_->read(sample_);
+  const std::int64_t readEnd = nowNs();
   const bool good = fresh && sample_.hand.finite();
   if (good) lastFresh_s_ = t;
   WatchdogStatus& wd = snap_.watchdog;
@@ -318,9 +321,12 @@ void ServoLoop::tick(double t, double dt) noexcept {
     gain_ = std::min(1.0, gain_ + dt / config_.watchdogRamp_s);
     out = scaled(lastOut_, gain_);
   }
+  const std::int64_t writeStart = nowNs();
   device_->write(out);
-  const std::int64_t computeEnd = nowNs();
-  compute_.add(1e-9 * static_cast<double>(computeEnd - computeStart));
+  const std::int64_t writeEnd = nowNs();
+  const std::int64_t io = (readEnd - readStart) + (writeEnd - writeStart);
+  deviceIo_.add(1e-9 * static_cast<double>(io));
+  compute_.add(1e-9 * static_cast<double>(writeEnd - computeStart - io));
 
   // Snapshot.
   ++ticks_;
@@ -355,6 +361,7 @@ void ServoLoop::tick(double t, double dt) noexcept {
     s.achieved_hz = ticks_ > 1 && lastTick_s_ > firstTick_s_ ? (ticks_ - 1) / (lastTick_s_ - firstTick_s_) : 0;
     s.periodError = periodError_.summary();
     s.compute = compute_.summary();
+    s.deviceIo = deviceIo_.summary();
   }
   publish();
 }

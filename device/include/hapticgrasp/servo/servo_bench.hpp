@@ -48,7 +48,8 @@ struct ServoBenchResult {
   std::string scheduler;        // "SCHED_FIFO" or "SCHED_OTHER (EPERM: ...)"
   std::string memory_lock;      // "mlockall" or "none (...)"
   DurationSummary period_err;   // |dt - T|, us
-  DurationSummary compute;      // read -> write, us
+  DurationSummary compute;      // the loop's own work per tick, us (device I/O excluded)
+  DurationSummary deviceIo;     // the device's read() + write(), us
   std::uint64_t ticks = 0;
   std::uint64_t overruns = 0;
   long allocations_in_loop = -1;

@@ -22,7 +22,11 @@ struct TimingSummary {
   std::uint64_t overruns = 0;  // ticks skipped because a deadline was missed
   std::uint64_t lateTicks = 0; // ticks that woke after their deadline's successor was due
   DurationSummary periodError; // |dt - T|, dt measured between successive wake-ups
-  DurationSummary compute;     // device read -> device write
+  // The loop's own work per tick: commands, grasp, passivity, saturation. The device's
+  // read() and write() are not in it: for a real device they are I/O, for the simulated
+  // arm they carry its physics; they are timed apart, in deviceIo.
+  DurationSummary compute;
+  DurationSummary deviceIo;    // device read() + write()
 };
 
 class DurationHistogram {
