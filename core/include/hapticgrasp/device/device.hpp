@@ -1,5 +1,5 @@
 #pragma once
-// A haptic device as the servo loop sees it: read the operator's hand, write the forces
+// A haptic device as the servo loop (core/servo) sees it: read the operator's hand, write the forces
 // the grasp computed, and a spec the loop saturates to. Back ends: the simulated master
 // arm, simulated and scripted hands, SpaceMouse and generic HID devices, replay.
 #include <cstdint>
