@@ -191,21 +191,23 @@ void ServoLoop::run() noexcept {
   // --- Shutdown.
   device_->idle();
   snap_.sent = device::DeviceCommand{};
-  snap_.timing = final_ = [&] {
-    TimingSummary s;
-    s.target_hz = config_.rate_hz;
-    s.ticks = ticks_;
-    s.overruns = overruns_;
-    s.lateTicks = lateTicks_;
-    s.achieved_hz = ticks_ > 1 && lastTick_s_ > firstTick_s_ ? (ticks_ - 1) / (lastTick_s_ - firstTick_s_) : 0;
-    s.periodError = periodError_.summary();
-    s.compute = compute_.summary();
-    s.deviceIo = deviceIo_.summary();
-    return s;
-  }();
+  snap_.timing = final_ = timingSummary();
   publish();
   if (locked_) munlockall();
   running_.store(false, std::memory_order_release);
+}
+
+TimingSummary ServoLoop::timingSummary() const noexcept {
+  TimingSummary s;
+  s.target_hz = config_.rate_hz;
+  s.ticks = ticks_;
+  s.overruns = overruns_;
+  s.lateTicks = lateTicks_;
+  s.achieved_hz = ticks_ > 1 && lastTick_s_ > firstTick_s_ ? (ticks_ - 1) / (lastTick_s_ - firstTick_s_) : 0;
+  s.periodError = periodError_.summary();
+  s.compute = compute_.summary();
+  s.deviceIo = deviceIo_.summary();
+  return s;
 }
 
 void ServoLoop::tick(double t, double dt) noexcept {
@@ -353,16 +355,7 @@ void ServoLoop::tick(double t, double dt) noexcept {
   const auto poses = grasp_->poses();
   for (int i = 0; i < snap_.partCount; ++i) snap_.poses[i] = poses[static_cast<std::size_t>(i)];
   if (config_.allocationCounter) snap_.allocations = config_.allocationCounter() - allocationBase_;
-  if ((ticks_ & 63) == 1) {
-    TimingSummary& s = snap_.timing;
-    s.ticks = ticks_;
-    s.overruns = overruns_;
-    s.lateTicks = lateTicks_;
-    s.achieved_hz = ticks_ > 1 && lastTick_s_ > firstTick_s_ ? (ticks_ - 1) / (lastTick_s_ - firstTick_s_) : 0;
-    s.periodError = periodError_.summary();
-    s.compute = compute_.summary();
-    s.deviceIo = deviceIo_.summary();
-  }
+  if ((ticks_ & 63) == 1) snap_.timing = timingSummary();  // every 64 ticks: the histograms cost a scan
   publish();
 }
 

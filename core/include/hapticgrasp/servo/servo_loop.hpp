@@ -209,6 +209,7 @@ class ServoLoop {
   double gain_ = 1;
   double faultStart_s_ = 0;
   PassivityPort ports_[kPortCount];
+  TimingSummary timingSummary() const noexcept;
   DurationHistogram periodError_, compute_, deviceIo_;
   std::uint64_t ticks_ = 0, overruns_ = 0, lateTicks_ = 0;
   double firstTick_s_ = 0, lastTick_s_ = 0;
