@@ -1,7 +1,9 @@
 // The resultant-force paper's grasp models: 1 DOF (section 4) and its experiment (section 6).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 #include <nlohmann/json.hpp>
 
@@ -395,6 +397,179 @@ TEST(MultiFingerGrasp, ExtremesStayFiniteAndBounded) {
 TEST(MultiFingerGrasp, StepIsAllocationFree) {
   const Block b = block(60, 60, 100, 1.0);
   MultiFingerGrasp grasp(b.model, b.mass, 3);
+  const std::vector<hg::Vec3> tips{{0.0275, 0, 0}, {-0.0275, 0.01, 0}, {-0.0275, -0.01, 0}};
+  for (int i = 0; i < 20; ++i) grasp.step(tips, hg::Vec3::Zero(), hg::Vec3::Zero(), 1e-3);
+  const long before = hg::test::allocations();
+  for (int i = 0; i < 500; ++i) grasp.step(tips, hg::Vec3::Zero(), hg::Vec3::Zero(), 1e-3);
+  EXPECT_EQ(hg::test::allocations(), before);
+  EXPECT_EQ(grasp.output().contacts, 3);
+}
+
+namespace {
+
+// The paper's experiment (section 6) in 6 DOF: two fingers hold the 6 cm × 6 cm × 10 cm
+// block on its 6 cm faces under g = 2 m/s²; the wrist shakes it sideways (along the grasp)
+// while a simulated subject keeps the grasping force (eq 2: the smaller normal force) at
+// its target by opening or closing the fingers. Returns the std of the finger distance.
+struct SixDofShake {
+  double distanceMean = 0, distanceStd = 0, resultantMax = 0;
+  bool finite = true, held = true;
+};
+SixDofShake shake6(Method method, double dt = 1e-3) {
+  const Block b = block(60, 60, 100, 1.0);
+  MultiFingerParams params;
+  params.method = method;
+  params.gravity = hg::Vec3(0, 0, -2.0);
+  MultiFingerGrasp grasp(b.model, b.mass, 2, params);
+  // The target grip: three times the weight's share over the friction (2 N would let the
+  // conventional grasp slip out when the resultant dips its grasping force, eq 8).
+  const double target = 3.0, tau = 0.2, amplitude = 0.03, frequency = 1.5;
+  double aperture = 0.054;  // 2.4 N: the subject settles to its target in the first second
+  std::vector<hg::Vec3> tips(2);
+  SixDofShake r;
+  double sum = 0, sum2 = 0;
+  int samples = 0;
+  const int ticks = static_cast<int>(8.0 / dt);
+  for (int i = 0; i < ticks; ++i) {
+    const double t = i * dt;
+    const double wrist = amplitude * (1 - std::cos(2 * M_PI * frequency * t));
+    tips[0] = hg::Vec3(wrist + 0.5 * aperture, 0, 0);
+    tips[1] = hg::Vec3(wrist - 0.5 * aperture, 0, 0);
+    const MultiFingerOutput& o = grasp.step(tips, hg::Vec3::Zero(), hg::Vec3::Zero(), dt);
+    double fg = o.contacts == 2 ? INFINITY : 0.0;
+    for (int j = 0; j < 2; ++j) {
+      const FingerOutput& f = o.fingers[j];
+      if (!f.force.allFinite() || !o.body.position.allFinite()) r.finite = false;
+      if (f.contact) fg = std::min(fg, std::max(0.0, f.force.dot(f.normal)));
+    }
+    if (o.contacts != 2) r.held = false;
+    aperture += dt / tau * (2.0 / params.stiffness) * (fg - target);
+    aperture = std::clamp(aperture, 0.006, 0.12);
+    if (t >= 1.0) {
+      sum += aperture;
+      sum2 += aperture * aperture;
+      ++samples;
+      r.resultantMax = std::max(r.resultantMax, o.resultantForce.head<2>().norm());
+    }
+  }
+  r.distanceMean = sum / samples;
+  r.distanceStd = std::sqrt(std::max(0.0, sum2 / samples - r.distanceMean * r.distanceMean));
+  return r;
+}
+
+}  // namespace
+
+// Eq 8 against eq 12 in 6 DOF: the conventional springs carry the resultant, so the finger
+// distance the subject needs for its grasping force swings with the shake; the proposed
+// shell keeps it (the resultant goes round the springs).
+TEST(MultiFingerGrasp, ConventionalDistanceFollowsTheResultantProposedDoesNot) {
+  const SixDofShake conv = shake6(Method::Conventional);
+  const SixDofShake prop = shake6(Method::Proposed);
+  std::printf("6-DOF shake: distance std conventional %.4g mm, proposed %.4g mm; mean %.4g / %.4g mm; "
+              "max |F_xy| %.3g / %.3g N\n",
+              1e3 * conv.distanceStd, 1e3 * prop.distanceStd, 1e3 * conv.distanceMean, 1e3 * prop.distanceMean,
+              conv.resultantMax, prop.resultantMax);
+  ASSERT_TRUE(conv.finite);
+  ASSERT_TRUE(prop.finite);
+  EXPECT_TRUE(conv.held);  // both grasps keep the block between the fingers
+  EXPECT_TRUE(prop.held);
+  EXPECT_GT(conv.resultantMax, 1.0);  // the shake really needed a resultant
+  EXPECT_GT(prop.resultantMax, 1.0);
+  EXPECT_GT(conv.distanceStd, 5 * prop.distanceStd);
+  // Eq 8: |f_r| / k of 800 N/m is millimetres; eq 12 leaves the distance at l − 2 f_g / k.
+  EXPECT_GT(conv.distanceStd, 1e-4);
+  EXPECT_LT(prop.distanceStd, 2e-5);
+  EXPECT_NEAR(prop.distanceMean, 0.06 - 2 * 3.0 / 800, 5e-4);
+  EXPECT_LT(conv.distanceMean, prop.distanceMean);
+}
+
+// The conventional fingers feel exactly their springs, and the part moves by them alone:
+// m Δv = dt (Σ f_i + m g), f_i the springs' forces on the part.
+TEST(MultiFingerGrasp, ConventionalFingersFeelTheirSpringsOnTheBody) {
+  const Block b = block(60, 60, 100, 1.0);
+  MultiFingerParams params;
+  params.method = Method::Conventional;
+  params.gravity = hg::Vec3(0, 0, -2.0);
+  MultiFingerGrasp grasp(b.model, b.mass, 3, params);
+  const double dt = 1e-3;
+  std::vector<hg::Vec3> tips{{0.0275, 0, 0}, {-0.0275, 0.01, 0}, {-0.0275, -0.01, 0.01}};
+  hg::Vec3 lastV = grasp.body().velocity();
+  for (int i = 0; i < 2000; ++i) {
+    const double t = i * dt;
+    for (auto& p : tips) p.y() += 0.02 * dt * std::cos(3 * t);
+    const MultiFingerOutput& o = grasp.step(tips, hg::Vec3::Zero(), hg::Vec3::Zero(), dt);
+    hg::Vec3 onPart = hg::Vec3::Zero();
+    for (int j = 0; j < 3; ++j) {
+      const FingerOutput& f = o.fingers[j];
+      if (!f.contact) continue;
+      EXPECT_NEAR((f.force - params.stiffness * (f.proxy - tips[j])).norm(), 0, 1e-3 * (1 + f.force.norm()));
+      EXPECT_EQ(f.share, 0);
+      EXPECT_TRUE(f.torsion.isZero());
+      onPart -= f.force;
+    }
+    EXPECT_LT((o.resultantForce - onPart).norm(), 1e-9);
+    const hg::Vec3 v = grasp.body().velocity();
+    EXPECT_LT((b.mass.mass_kg * (v - lastV) / dt - onPart - b.mass.mass_kg * params.gravity).norm(), 1e-6);
+    EXPECT_EQ(o.body.position, o.shell.position);
+    lastV = v;
+  }
+  EXPECT_EQ(grasp.output().contacts, 3);
+  EXPECT_GT(grasp.output().body.position.z(), -0.02);  // held up by friction at the god objects
+}
+
+// Both methods, 2–5 fingers, dt 1e-4..1e-2 and stiffness ×0.01..×100: no NaN, bounded.
+TEST(MultiFingerGrasp, BothMethodsStayFiniteAndBoundedOverDtAndFingers) {
+  const std::vector<std::vector<hg::Vec3>> hands{
+      {{0.95, 0, 0}, {-0.95, 0, 0}},
+      {{0.95, 0, 0}, {-0.6, 0.95, 0}, {-0.6, -0.95, 0}},
+      {{0.95, 0, 0}, {-0.95, 0, 0}, {0, 0.95, 0}, {0, -0.95, 0}},
+      {{-0.95, 0, 0}, {0.95, 0.5, 0.3}, {0.95, -0.5, 0.3}, {0.95, 0.5, -0.3}, {0.95, -0.5, -0.3}},
+  };
+  const Block b = block(60, 60, 60, 1.0);
+  const double half = 0.03;
+  for (Method method : {Method::Conventional, Method::Proposed}) {
+    for (const auto& hand : hands) {
+      for (double dt : {1e-4, 1e-3, 3e-3, 1e-2}) {
+        for (double kScale : {0.01, 1.0, 100.0}) {
+          SCOPED_TRACE(testing::Message() << (method == Method::Conventional ? "conventional " : "proposed ")
+                                          << hand.size() << " fingers dt " << dt << " stiffness x" << kScale);
+          MultiFingerParams params;
+          params.method = method;
+          params.stiffness = 800 * kScale;
+          params.dynamicsStiffness = 800 * kScale;
+          MultiFingerGrasp grasp(b.model, b.mass, static_cast<int>(hand.size()), params);
+          std::vector<hg::Vec3> tips(hand.size());
+          const int ticks = static_cast<int>(0.5 / dt);
+          double largest = 0;
+          for (int i = 0; i < ticks; ++i) {
+            const double t = i * dt;
+            for (std::size_t j = 0; j < tips.size(); ++j)  // squeeze, shake sideways and lift
+              tips[j] = hand[j] * half * (1 - 0.02 * std::sin(6 * t)) +
+                        hg::Vec3(0.3 * half * std::sin(9 * t), 0, 0.1 * half * std::sin(4 * t));
+            const MultiFingerOutput& o = grasp.step(tips, hg::Vec3::Zero(), hg::Vec3::Zero(), dt);
+            ASSERT_TRUE(o.body.position.allFinite());
+            ASSERT_TRUE(o.body.rotation.allFinite());
+            for (const FingerOutput& f : o.fingers) {
+              ASSERT_TRUE(f.force.allFinite());
+              ASSERT_TRUE(f.torsion.allFinite());
+              largest = std::max(largest, f.force.norm());
+            }
+          }
+          const double bound = 10 * (params.stiffness * 2 * half + b.mass.mass_kg * 9.81 * 5) + 1;
+          EXPECT_LT(largest, bound);
+          EXPECT_LT(grasp.output().body.position.norm(), 100.0);
+        }
+      }
+    }
+  }
+}
+
+TEST(MultiFingerGrasp, ConventionalStepIsAllocationFree) {
+  const Block b = block(60, 60, 100, 1.0);
+  MultiFingerParams params;
+  params.method = Method::Conventional;
+  params.contactDampingRatio = 0.5;
+  MultiFingerGrasp grasp(b.model, b.mass, 3, params);
   const std::vector<hg::Vec3> tips{{0.0275, 0, 0}, {-0.0275, 0.01, 0}, {-0.0275, -0.01, 0}};
   for (int i = 0; i < 20; ++i) grasp.step(tips, hg::Vec3::Zero(), hg::Vec3::Zero(), 1e-3);
   const long before = hg::test::allocations();

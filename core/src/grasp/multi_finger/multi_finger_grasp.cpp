@@ -49,6 +49,7 @@ void MultiFingerGrasp::reset(const PartPose& pose) noexcept {
   distributor_.reset();
   shell_ = lastShell_ = pose;
   haveLast_ = false;
+  haveTips_ = false;
   shellV_ = shellW_ = Vec3::Zero();
   out_ = MultiFingerOutput{};
   out_.count = count_;
@@ -62,6 +63,7 @@ const MultiFingerOutput& MultiFingerGrasp::step(std::span<const Vec3> tips, cons
     return out_;
   for (const Vec3& p : tips)
     if (!p.allFinite()) return out_;
+  if (params_.method == Method::Conventional) return stepConventional(tips, externalForce, externalTorque, dt);
   const double k = std::max(0.0, params_.stiffness);
 
   // 1. The god objects on the shell.
@@ -213,6 +215,60 @@ const MultiFingerOutput& MultiFingerGrasp::step(std::span<const Vec3> tips, cons
   out_.unmatchedForce = unmatchedForce;
   out_.unmatchedTorque = unmatchedTorque;
   out_.slipping = slipping;
+  return out_;
+}
+
+const MultiFingerOutput& MultiFingerGrasp::stepConventional(std::span<const Vec3> tips, const Vec3& externalForce,
+                                                            const Vec3& externalTorque, double dt) noexcept {
+  const double k = std::max(0.0, params_.stiffness);
+  const double mass = body_.mass();
+  const double c = 2 * std::max(0.0, params_.contactDampingRatio) * std::sqrt(k * mass);
+  const PartPose before = body_.pose();
+  const Vec3 centre = body_.centreWorld();
+
+  // The god objects on the part itself; each spring (and damper) acts on the part at r_i.
+  std::array<Vec3, kMaxFingers> rho{}, f0{}, applied{}, proxy{};
+  std::array<double, kMaxFingers> gain{};
+  std::array<int, kMaxFingers> slot{};
+  int m = 0;
+  for (int i = 0; i < count_; ++i) {
+    out_.fingers[i] = FingerOutput{};
+    const GodObjectContact& g = gods_[i].update(before.toObject(tips[i]));
+    if (!g.inContact) continue;
+    const Vec3 r = before.pointToAbsolute(g.proxy);
+    Vec3 tipVelocity = Vec3::Zero();
+    if (haveTips_) tipVelocity = (tips[i] - lastTips_[i]) / dt;
+    rho[m] = r - centre;
+    proxy[m] = g.proxy;
+    f0[m] = k * (tips[i] - r) + c * tipVelocity;  // on the part, at the start of the tick
+    gain[m] = k * dt + c;
+    slot[m] = i;
+    ++m;
+  }
+  for (int i = 0; i < count_; ++i) lastTips_[i] = tips[i];
+  haveTips_ = true;
+
+  // Eqs 4–6 in 6 DOF: m a = Σ f_i + f_e, I dω = Σ ρ_i × f_i + τ_e.
+  body_.stepCoupled(std::span<const Vec3>(rho.data(), m), std::span<const Vec3>(f0.data(), m),
+                    std::span<const double>(gain.data(), m), std::span<Vec3>(applied.data(), m),
+                    mass * params_.gravity + externalForce, externalTorque, dt);
+
+  const PartPose& now = body_.pose();
+  for (int j = 0; j < m; ++j) {
+    FingerOutput& f = out_.fingers[slot[j]];
+    f.contact = true;
+    f.proxy = now.pointToAbsolute(proxy[j]);
+    f.normal = now.vectorToAbsolute(gods_[slot[j]].contact().normal);
+    f.force = -applied[j];
+    f.graspForce = applied[j].norm();
+  }
+  out_.contacts = m;
+  out_.shell = out_.body = now;
+  out_.resultantForce = m > 0 ? body_.springForce() : Vec3::Zero();
+  out_.resultantTorque = m > 0 ? body_.springTorque() : Vec3::Zero();
+  out_.unmatchedForce = out_.unmatchedTorque = Vec3::Zero();
+  out_.slipping = false;
+  shell_ = lastShell_ = now;
   return out_;
 }
 

@@ -50,4 +50,49 @@ void RigidBody::step(const PartPose& target, const Vec3& targetVelocity, const V
   springTorque_ = kr * phiNew + cr * (targetAngularVelocity - w_);
 }
 
+void RigidBody::stepCoupled(std::span<const Vec3> rho, std::span<const Vec3> f0, std::span<const double> g,
+                            std::span<Vec3> applied, const Vec3& force, const Vec3& torque, double dt) noexcept {
+  const std::size_t n = rho.size();
+  if (!(dt > 0) || !std::isfinite(dt) || f0.size() != n || g.size() != n || applied.size() < n ||
+      !force.allFinite() || !torque.allFinite())
+    return;
+  // (M + dt D) u' = M u + dt F0, u = (v, ω); contact j: J_j u = v − [rho_j]× ω, D = Σ g_j J_jᵀ J_j,
+  // F0 = Σ J_jᵀ f0_j + (force, torque), J_jᵀ = (I; [rho_j]×).
+  using Mat6 = Eigen::Matrix<double, 6, 6>;
+  using Vec6 = Eigen::Matrix<double, 6, 1>;
+  const Mat3 Iw = pose_.rotation * inertia_ * pose_.rotation.transpose();
+  Mat6 A = Mat6::Zero();
+  A.topLeftCorner<3, 3>() = m_ * Mat3::Identity();
+  A.bottomRightCorner<3, 3>() = Iw;
+  Vec6 b;
+  b.head<3>() = m_ * v_ + dt * force;
+  b.tail<3>() = Iw * w_ + dt * torque;
+  for (std::size_t j = 0; j < n; ++j) {
+    if (!rho[j].allFinite() || !f0[j].allFinite() || !(g[j] >= 0) || !std::isfinite(g[j])) return;
+    Mat3 S;  // [rho]×
+    S << 0, -rho[j].z(), rho[j].y(), rho[j].z(), 0, -rho[j].x(), -rho[j].y(), rho[j].x(), 0;
+    const double h = dt * g[j];
+    A.topLeftCorner<3, 3>().diagonal().array() += h;
+    A.topRightCorner<3, 3>() -= h * S;                    // J = (I, −S): JᵀJ = (I, −S; S, −S²)
+    A.bottomLeftCorner<3, 3>() += h * S;
+    A.bottomRightCorner<3, 3>() -= h * S * S;
+    b.head<3>() += dt * f0[j];
+    b.tail<3>() += dt * rho[j].cross(f0[j]);
+  }
+  const Vec6 u = A.ldlt().solve(b);
+  if (!u.allFinite()) return;
+  const Vec3 x = pose_.pointToAbsolute(centre_);
+  v_ = u.head<3>();
+  w_ = u.tail<3>();
+  for (std::size_t j = 0; j < n; ++j) applied[j] = f0[j] - g[j] * (v_ + w_.cross(rho[j]));
+  const Vec3 xNew = x + dt * v_;
+  pose_.rotation = math::orthonormalized(math::fromRotationVector(dt * w_) * pose_.rotation);
+  pose_.position = xNew - pose_.rotation * centre_;
+  springForce_ = springTorque_ = Vec3::Zero();
+  for (std::size_t j = 0; j < n; ++j) {
+    springForce_ += applied[j];
+    springTorque_ += rho[j].cross(applied[j]);
+  }
+}
+
 }  // namespace hg::grasp::multi_finger

@@ -9,6 +9,14 @@
 // finger's normal force; beyond that the part slips round in the grasp (the shell turns
 // towards the body).
 //
+// Method::Conventional is the paper's baseline (section 3, eqs 4–8, in 6 DOF): one coupled
+// spring model. Each finger's god object sits on the moving part itself and its spring
+// f_i = k (p_i − r_i) (plus an optional contact damper, contactDampingRatio) acts straight
+// on the part: m a = Σ f_i + f_e, I dω = Σ (r_i − c) × f_i + τ_e, integrated by backward
+// Euler on the coupled 6 × 6 system. No shape shell, no eq 19, no torsional friction: each
+// finger feels exactly the force its spring gives the part (reversed), so the resultant
+// changes the springs' lengths and with them the fingers' distance (eq 8).
+//
 // step() is allocation-free when the penetration back end is (the exact one is), never
 // throws, and ignores non-finite fingertips: usable on the servo thread.
 #include <array>
@@ -26,7 +34,10 @@ namespace hg::grasp::multi_finger {
 
 inline constexpr int kMaxFingers = kMaxDistributionFingers;
 
+enum class Method { Conventional, Proposed };
+
 struct MultiFingerParams {
+  Method method = Method::Proposed;
   double stiffness = 800;           // finger–god-object springs k [N/m]
   double friction = 1.0;            // μ
   double torsionalFriction = 0.005; // μ_t [m]: torsional torque limit per newton of normal force
@@ -35,16 +46,18 @@ struct MultiFingerParams {
   double dampingRatio = 0.7;        // of both spring-dampers
   double shellVelocityTau = 0.01;   // [s], low-pass of the shell's velocity seen by the dampers
   Vec3 gravity = Vec3(0, 0, -9.81); // [m/s²]
+  double contactDampingRatio = 0;   // conventional only: ζ of a damper beside each finger spring
   DistributionParams distribution;
 };
 
 struct FingerOutput {
   bool contact = false;
   Vec3 force = Vec3::Zero();    // on the finger, world [N]: grasping + distributed resultant
+                                // (conventional: the spring's force, reversed, on the part)
   Vec3 torsion = Vec3::Zero();  // torsional friction torque on the finger, world [N m]
   Vec3 proxy = Vec3::Zero();    // god object, world [m]
   Vec3 normal = Vec3::Zero();   // outward normal at the god object, world
-  double graspForce = 0;        // |f_gi| [N]
+  double graspForce = 0;        // |f_gi| [N] (conventional: |force|)
   double share = 0;             // k_i of eq 19 [N]
 };
 
@@ -52,7 +65,7 @@ struct MultiFingerOutput {
   std::array<FingerOutput, kMaxFingers> fingers{};
   int count = 0;
   int contacts = 0;
-  PartPose shell, body;
+  PartPose shell, body;                 // conventional: shell = body
   Vec3 resultantForce = Vec3::Zero();   // F: what the fingers must give the part [N]
   Vec3 resultantTorque = Vec3::Zero();  // N about the centre of gravity [N m]
   Vec3 unmatchedForce = Vec3::Zero();   // F − Σ k_i n_i [N]
@@ -76,6 +89,9 @@ class MultiFingerGrasp {
   const RigidBody& body() const noexcept { return body_; }
 
  private:
+  const MultiFingerOutput& stepConventional(std::span<const Vec3> tips, const Vec3& externalForce,
+                                            const Vec3& externalTorque, double dt) noexcept;
+
   std::shared_ptr<const geometry::PenetrationModel> model_;
   MultiFingerParams params_;
   int count_;
@@ -87,6 +103,8 @@ class MultiFingerGrasp {
   bool haveLast_ = false;
   Vec3 shellV_ = Vec3::Zero(), shellW_ = Vec3::Zero();
   double radiusOfGyration2_ = 0;
+  std::array<Vec3, kMaxFingers> lastTips_{};  // conventional: finger velocities for the dampers
+  bool haveTips_ = false;
   MultiFingerOutput out_;
 };
 

@@ -4,6 +4,8 @@
 // translational and a rotational spring-damper, under gravity and external loads. The
 // spring-dampers are integrated implicitly (backward Euler; the gyroscopic term is left
 // out), so any stiffness, mass and dt stay bounded. Allocation-free, never throws.
+#include <span>
+
 #include "hapticgrasp/grasp/part_pose.hpp"
 #include "hapticgrasp/math/types.hpp"
 
@@ -29,6 +31,16 @@ class RigidBody {
   // fingers must give the part (eq 9: m ẍ − f_e).
   void step(const PartPose& target, const Vec3& targetVelocity, const Vec3& targetAngularVelocity,
             const SpringDamper6& spring, const Vec3& force, const Vec3& torque, double dt) noexcept;
+
+  // The conventional method's tick (the resultant-force paper's eqs 4–6 in 6 DOF): contact
+  // springs and dampers act straight on the body. Contact j at rho[j] from the centre of
+  // gravity (world) gives the force f_j = f0[j] − g[j] (v' + ω' × rho[j]) — f0 its spring
+  // and damper force at the start of the tick, g = k dt + c its stiffness over the tick —
+  // and the torque rho[j] × f_j. Backward Euler on the coupled 6 × 6 system (gyroscopic
+  // term left out), so any stiffness and dt stay bounded. Writes the forces applied over
+  // the tick (at the new velocities) to applied[j]: m Δv = dt (Σ applied + force) exactly.
+  void stepCoupled(std::span<const Vec3> rho, std::span<const Vec3> f0, std::span<const double> g,
+                   std::span<Vec3> applied, const Vec3& force, const Vec3& torque, double dt) noexcept;
 
   const PartPose& pose() const noexcept { return pose_; }
   Vec3 centreWorld() const noexcept { return pose_.pointToAbsolute(centre_); }
