@@ -1,6 +1,10 @@
 """HapticGrasp in the real FreeCAD GUI (under Xvfb): the workbench loads, its Start
 command runs the servo thread with the demo hand on the selected part, the QTimer moves
 the part's Placement, the manipulation is one undo step, and the session stops itself.
+While it runs the task panel is open and the Coin overlay is in the scene graph (both go
+with Stop); nothing is reported as an error; a screenshot is saved to the build tree
+(build/freecad/screenshots/TestHapticGraspGui.png). Sounds are requested on transitions and
+stay silent without an audio server. Frame rates are never asserted.
 
 Run: `QTWEBENGINE_DISABLE_SANDBOX=1 xvfb-run -a freecad -t TestHapticGraspGui` with the
 built package in the Mod folder (tests/freecad/run_freecad_gui.sh)."""
@@ -18,6 +22,34 @@ from HapticGrasp import gui as hgui  # noqa: E402
 from HapticGrasp import session as hs  # noqa: E402
 
 RESOURCES = os.environ.get("HG_RESOURCES_DIR", "")
+SCREENSHOT = os.path.join(os.path.dirname(os.path.dirname(os.path.realpath(__file__))), "screenshots",
+                          "TestHapticGraspGui.png")
+
+
+class _ErrorLog:
+    """Records App.Console.PrintError calls and uncaught exceptions (Qt slots) meanwhile."""
+
+    def __enter__(self):
+        self.errors = []
+        self._print_error = App.Console.PrintError
+        self._excepthook = sys.excepthook
+
+        def print_error(text, *args):
+            self.errors.append(str(text))
+            return self._print_error(text, *args)
+
+        def excepthook(kind, value, tb):
+            self.errors.append("%s: %s" % (kind.__name__, value))
+            return self._excepthook(kind, value, tb)
+
+        App.Console.PrintError = print_error
+        sys.excepthook = excepthook
+        return self
+
+    def __exit__(self, *exc):
+        App.Console.PrintError = self._print_error
+        sys.excepthook = self._excepthook
+        return False
 
 
 class HapticGraspGui(unittest.TestCase):
@@ -37,16 +69,62 @@ class HapticGraspGui(unittest.TestCase):
         before = App.Placement(cylinder.Placement)
         Gui.Selection.clearSelection()
         Gui.Selection.addSelection(cylinder)
-        Gui.runCommand("HapticGrasp_Start")
+        Gui.ActiveDocument.ActiveView.viewIsometric()
+        Gui.SendMsgToActiveView("ViewFit")
         controller = hgui._HapticGraspController
-        self.assertIsNotNone(controller.session)
-        deadline = time.monotonic() + 15
-        while controller.session is not None and time.monotonic() < deadline:
+        seen = {"overlay": False, "panel": False, "screenshot": False, "states": set()}
+        with _ErrorLog() as log:
+            Gui.runCommand("HapticGrasp_Start")
+            self.assertIsNotNone(controller.session)
+            Gui.Selection.clearSelection()   # an unhighlighted part in the screenshot
+            deadline = time.monotonic() + 15
+            while controller.session is not None and time.monotonic() < deadline:
+                QtWidgets.QApplication.processEvents()
+                time.sleep(0.005)
+                if controller.session is None:
+                    break
+                seen["states"].add(controller.session.state)
+                overlay = controller.overlay
+                graph = Gui.ActiveDocument.ActiveView.getSceneGraph()
+                if overlay is not None and graph.findChild(overlay.root) >= 0:
+                    seen["overlay"] = True
+                panel = controller.panel
+                if panel is not None and Gui.Control.activeDialog() and panel.form.findChild(
+                        QtWidgets.QLabel, "HapticGrasp_state") is not None:
+                    seen["panel"] = True
+                if not seen["screenshot"] and controller.session.state == "MANIPULATE":
+                    os.makedirs(os.path.dirname(SCREENSHOT), exist_ok=True)
+                    Gui.ActiveDocument.ActiveView.saveImage(SCREENSHOT, 640, 480)
+                    seen["screenshot"] = True
+                    fields = controller.panel.fields
+                    seen["panel_state"] = fields["state"].text()
+                    seen["panel_part"] = fields["part"].text()
+                    controller.panel.form.grab().save(SCREENSHOT.replace(".png", "_panel.png"))
+                if controller.session.core.snapshot()["time_s"] > 2.5:
+                    Gui.runCommand("HapticGrasp_Stop")
+            self.assertIsNone(controller.session)
             QtWidgets.QApplication.processEvents()
-            time.sleep(0.005)
-            if controller.session is not None and controller.session.core.snapshot()["time_s"] > 2.5:
-                Gui.runCommand("HapticGrasp_Stop")
-        self.assertIsNone(controller.session)
+        self.assertEqual(log.errors, [])
+        self.assertTrue(seen["overlay"], "the overlay was never in the scene graph")
+        self.assertTrue(seen["panel"], "the task panel was never shown")
+        self.assertIn("MANIPULATE", seen["states"])
+        self.assertEqual(seen.get("panel_state"), "MANIPULATE")
+        self.assertEqual(seen.get("panel_part"), "Cylinder")
+        self.assertTrue(seen["screenshot"] and os.path.getsize(SCREENSHOT) > 0)
+        # Stop removed the overlay; the panel stays open (Start again), Close shuts it.
+        self.assertIsNone(controller.overlay)
+        self.assertEqual(self._overlay_nodes(), 0)
+        self.assertIsNotNone(controller.panel)
+        self.assertFalse(controller.panel.stop_button.isEnabled())
+        controller.panel.reject()
+        QtWidgets.QApplication.processEvents()
+        self.assertIsNone(controller.panel)
+        self.assertFalse(Gui.Control.activeDialog())
+        # Sounds: requested on the transitions, played only where an audio output exists.
+        self.assertIn("lift", controller.sounds.requested)
+        self.assertTrue(set(controller.sounds.played) <= set(controller.sounds.requested))
+        App.Console.PrintMessage("HapticGrasp GUI test: sounds %s, screenshot %s\n"
+                                 % (controller.sounds.status(), SCREENSHOT))
         moved = cylinder.Placement.Base - before.Base
         self.assertAlmostEqual(moved.y, 100.0, delta=0.5)
         self.assertAlmostEqual(moved.z, 0.0, delta=0.5)
@@ -54,3 +132,24 @@ class HapticGraspGui(unittest.TestCase):
         doc.undo()
         self.assertTrue(hs.same_placement(cylinder.Placement, before))
         App.closeDocument(doc.Name)
+
+    def test_transition_sounds(self):
+        from HapticGrasp import sounds as hsounds
+        steps = ["FREE", "INDEX CONTACT", "THUMB CONTACT", "GRASP", "MANIPULATE", "GRASP", "FREE"]
+        played = [hsounds.transition_sound(a, b) for a, b in zip(steps, steps[1:])]
+        self.assertEqual(played, ["contact", None, "grasp", "lift", None, "release"])
+        self.assertEqual(hsounds.transition_sound("GRASP", "GRASP", fault=True), "fault")
+        board = hsounds.SoundBoard()
+        self.assertEqual(sorted(board.effects), sorted(hsounds.NAMES))
+        board.play("grasp")      # silent without an audio server, never raises
+        self.assertEqual(board.requested, ["grasp"])
+        board.close()
+
+    @staticmethod
+    def _overlay_nodes():
+        from pivy import coin
+        search = coin.SoSearchAction()
+        search.setName(coin.SbName("HapticGraspOverlay"))
+        search.setInterest(coin.SoSearchAction.ALL)
+        search.apply(Gui.ActiveDocument.ActiveView.getSceneGraph())
+        return search.getPaths().getLength()

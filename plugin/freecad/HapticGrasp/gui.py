@@ -4,6 +4,7 @@ import FreeCAD as App
 import FreeCADGui as Gui
 
 from . import session as hs
+from . import sounds as hsounds
 
 
 class _HapticGraspController:
@@ -11,6 +12,28 @@ class _HapticGraspController:
 
     session = None
     timer = None
+    panel = None      # the task panel (HapticTaskPanel), open while the dialog is shown
+    overlay = None    # the Coin overlay (HapticOverlay), present while running
+    sounds = None     # SoundBoard, created once
+    last_state = "FREE"
+
+    @classmethod
+    def show_panel(cls):
+        """Opens the task panel (if no other task dialog is open)."""
+        if cls.panel is not None:
+            return cls.panel
+        from . import panel as hpanel
+        panel = hpanel.HapticTaskPanel(cls)
+        try:
+            if Gui.Control.activeDialog():
+                App.Console.PrintWarning("HapticGrasp: another task dialog is open, no haptics panel\n")
+                return None
+            Gui.Control.showDialog(panel)
+        except Exception as e:
+            App.Console.PrintWarning("HapticGrasp: cannot show the task panel: %s\n" % e)
+            return None
+        cls.panel = panel
+        return panel
 
     @classmethod
     def start(cls):
@@ -32,6 +55,20 @@ class _HapticGraspController:
         session.use_hand_script(keys, frame)
         session.start()
         cls.session = session
+        cls.last_state = "FREE"
+        if cls.sounds is None:
+            cls.sounds = hsounds.SoundBoard()
+        cls.show_panel()
+        if cls.panel is not None:
+            cls.panel.set_running(True)
+        view = getattr(Gui.ActiveDocument, "ActiveView", None) if Gui.ActiveDocument else None
+        if view is not None and hasattr(view, "getSceneGraph"):
+            try:
+                from . import overlay as hoverlay
+                cls.overlay = hoverlay.HapticOverlay(view)
+            except Exception as e:  # no pivy: run without the overlay
+                App.Console.PrintWarning("HapticGrasp: no 3D overlay: %s\n" % e)
+                cls.overlay = None
         cls.timer = QtCore.QTimer()
         cls.timer.setInterval(20)  # 50 Hz
         cls.timer.timeout.connect(cls.tick)
@@ -43,7 +80,8 @@ class _HapticGraspController:
         if cls.session is None:
             return
         try:
-            cls.session.tick()
+            snap = cls.session.tick()
+            cls._show(snap)
         except Exception as e:  # never let the timer die silently
             App.Console.PrintError("HapticGrasp: %s\n" % e)
             cls.stop()
@@ -52,10 +90,39 @@ class _HapticGraspController:
             cls.stop()
 
     @classmethod
+    def _show(cls, snap):
+        """The panel, the overlay and the sounds, from the snapshot of this tick."""
+        session = cls.session
+        fault = snap.get("fault", "none") != "none"
+        state = snap["state"]
+        if cls.sounds is not None:
+            was_fault = cls.last_state == "FAULT"
+            cls.sounds.play(hsounds.transition_sound(cls.last_state, state, fault and not was_fault))
+        cls.last_state = "FAULT" if fault else state
+        if cls.panel is not None:
+            cls.panel.update(session, snap, cls.sounds)
+        if cls.overlay is not None:
+            forces = snap.get("forces")
+            if forces is not None:
+                forces = tuple(App.Vector(*f) for f in forces[:2])
+            rotation = None
+            grasped = snap.get("grasped", -1)
+            if state in hs.HOLDING and 0 <= grasped < len(snap["placements"]):
+                rotation = hs.to_placement(snap["placements"][grasped]).Rotation
+            cls.overlay.update(state, session.hand_at(snap.get("time_s", 0.0)), forces, rotation, fault)
+
+    @classmethod
     def stop(cls):
         if cls.timer is not None:
             cls.timer.stop()
             cls.timer = None
+        if cls.overlay is not None:
+            try:
+                cls.overlay.remove()
+            finally:
+                cls.overlay = None
+        if cls.panel is not None:
+            cls.panel.set_running(False)
         if cls.session is not None:
             cls.session.stop()
             cls.session = None

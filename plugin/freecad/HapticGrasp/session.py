@@ -10,6 +10,8 @@ the grasp lifts the part (GRASP -> MANIPULATE) and committed when it is released
 release from GRASP changes nothing. A device fault during a manipulation aborts the
 transaction, puts the part back and says why in the report view.
 """
+import math
+
 import FreeCAD as App
 
 try:
@@ -89,6 +91,8 @@ class HapticSession:
         self.moves = 0            # committed manipulations
         self.aborted = 0
         self.fault = "none"
+        self._script = None       # (keys, frame Placement, pivot Vector) of a scripted hand
+        self._hand = None         # the last set_hand() (index, thumb, wrist) in mm
         for obj in collect_solids(doc, self.messages):
             density = getattr(obj, DENSITY_PROPERTY, None) or default_density
             base, quaternion = placement_numbers(obj.Placement)
@@ -107,15 +111,46 @@ class HapticSession:
         base, quaternion = placement_numbers(frame or App.Placement())
         pivot_mm = None if pivot is None else (pivot.x, pivot.y, pivot.z)
         self.core.set_hand_script(keys, base, quaternion, pivot_mm)
+        frame = App.Placement(frame or App.Placement())
+        self._script = (list(keys), frame, App.Vector(pivot) if pivot is not None else App.Vector(frame.Base))
+        self._hand = None
 
     def use_hand_input(self, hold_s=0.5):
         """A hand fed with set_hand() (the GUI, a script); it counts as silent hold_s after
         the last set_hand(), and the watchdog then faults the session."""
         self.core.use_hand_input(hold_s)
+        self._script = None
 
     def set_hand(self, index_mm, thumb_mm, wrist_mm):
         """The hand now, document coordinates (mm); lock-free, cheap."""
         self.core.set_hand(tuple(index_mm), tuple(thumb_mm), tuple(wrist_mm))
+        self._hand = tuple(App.Vector(*p) for p in (index_mm, thumb_mm, wrist_mm))
+
+    def hand_at(self, t):
+        """The device's hand (index, thumb, wrist: Vectors, mm, document coordinates) at
+        servo time t: the scripted hand evaluated like the core's HandScript::at (linear
+        between keys, turn about the vertical through the pivot), or the last set_hand();
+        None before any hand is known. The core's snapshot does not carry it."""
+        if self._script is None:
+            return self._hand
+        keys, frame, pivot = self._script
+        if not keys:
+            return None
+        after = next((i for i, k in enumerate(keys) if t < k[0]), len(keys))
+        a = keys[0] if after == 0 else keys[after - 1]
+        b = keys[-1] if after == len(keys) else keys[after]
+        u = min(1.0, max(0.0, (t - a[0]) / (b[0] - a[0]))) if b[0] > a[0] else 0.0
+
+        def mix(p, q):
+            return App.Vector(*p) * (1 - u) + App.Vector(*q) * u
+
+        turn = App.Rotation(App.Vector(0, 0, 1), math.degrees((1 - u) * a[5] + u * b[5]))
+        shift = mix(a[4], b[4])
+
+        def place(local):
+            return pivot + turn.multVec(frame.multVec(local) - pivot) + shift
+
+        return tuple(place(mix(a[i], b[i])) for i in (1, 2, 3))
 
     # --- servo thread -----------------------------------------------------------------
     def start(self, rate_hz=1000.0, realtime=False):

@@ -1,0 +1,138 @@
+"""3D overlay of a running haptic session: Coin nodes (pivy) added to the active view's
+scene graph, never document objects (no undo, nothing saved). GUI thread only.
+
+  - fingertip spheres (index, thumb) and a wrist marker (a cube), coloured by grasp state;
+  - force arrows from each fingertip, length = force * ARROW_MM_PER_N (hidden while the
+    force is unknown: the core's snapshot does not carry fingertip forces yet);
+  - the grasp frame: three short lines (x red, y green, z blue) at the fingertips'
+    midpoint, turned with the grasped part.
+"""
+import FreeCAD as App
+
+STATE_COLOURS = {
+    "FREE": (0.6, 0.6, 0.6),
+    "INDEX CONTACT": (1.0, 0.8, 0.1),
+    "THUMB CONTACT": (1.0, 0.8, 0.1),
+    "GRASP": (1.0, 0.45, 0.0),
+    "MANIPULATE": (0.1, 0.8, 0.2),
+}
+FAULT_COLOUR = (0.9, 0.1, 0.1)
+ROOT_NAME = "HapticGraspOverlay"
+FINGERTIP_RADIUS_MM = 4.0
+WRIST_SIZE_MM = 10.0
+ARROW_MM_PER_N = 5.0
+FRAME_LENGTH_MM = 25.0
+
+
+class HapticOverlay:
+    def __init__(self, view):
+        from pivy import coin
+        self.coin = coin
+        self.view = view
+        self.graph = view.getSceneGraph()
+        self.root = coin.SoAnnotation()   # drawn on top: fingertips stay visible at contact
+        self.root.setName(ROOT_NAME)
+        self.state_material = coin.SoMaterial()
+        self.root.addChild(self.state_material)
+        self.fingertips = []
+        for name in ("Index", "Thumb"):
+            sep = coin.SoSeparator()
+            sep.setName(ROOT_NAME + name)
+            move = coin.SoTranslation()
+            sphere = coin.SoSphere()
+            sphere.radius = FINGERTIP_RADIUS_MM
+            sep.addChild(move)
+            sep.addChild(sphere)
+            self.root.addChild(sep)
+            self.fingertips.append(move)
+        wrist = coin.SoSeparator()
+        wrist.setName(ROOT_NAME + "Wrist")
+        self.wrist = coin.SoTranslation()
+        cube = coin.SoCube()
+        cube.width = cube.height = cube.depth = WRIST_SIZE_MM
+        wrist.addChild(self.wrist)
+        wrist.addChild(cube)
+        self.root.addChild(wrist)
+        # force arrows: a line and a cone at its tip, in a switch (hidden when unknown)
+        self.arrows = []
+        for name in ("Index", "Thumb"):
+            switch = coin.SoSwitch()
+            switch.setName(ROOT_NAME + name + "Force")
+            sep = coin.SoSeparator()
+            material = coin.SoMaterial()
+            material.diffuseColor = (0.1, 0.4, 1.0)
+            material.emissiveColor = (0.05, 0.2, 0.5)
+            style = coin.SoDrawStyle()
+            style.lineWidth = 3
+            coords = coin.SoCoordinate3()
+            coords.point.setValues(0, 2, [(0, 0, 0), (0, 0, 0)])
+            line = coin.SoLineSet()
+            line.numVertices.setValue(2)
+            head = coin.SoTransform()
+            cone = coin.SoCone()
+            cone.bottomRadius = 2.0
+            cone.height = 5.0
+            for node in (material, style, coords, line, head, cone):
+                sep.addChild(node)
+            switch.addChild(sep)
+            switch.whichChild = coin.SO_SWITCH_NONE
+            self.root.addChild(switch)
+            self.arrows.append((switch, coords, head))
+        # grasp frame: three lines, one colour each
+        frame = coin.SoSeparator()
+        frame.setName(ROOT_NAME + "GraspFrame")
+        colours = coin.SoMaterial()
+        colours.diffuseColor.setValues(0, 3, [(1, 0, 0), (0, 0.8, 0), (0, 0, 1)])
+        colours.emissiveColor.setValues(0, 3, [(1, 0, 0), (0, 0.8, 0), (0, 0, 1)])
+        binding = coin.SoMaterialBinding()
+        binding.value = coin.SoMaterialBinding.PER_PART
+        style = coin.SoDrawStyle()
+        style.lineWidth = 2
+        self.frame_coords = coin.SoCoordinate3()
+        self.frame_coords.point.setValues(0, 6, [(0, 0, 0)] * 6)
+        lines = coin.SoLineSet()
+        lines.numVertices.setValues(0, 3, [2, 2, 2])
+        for node in (colours, binding, style, self.frame_coords, lines):
+            frame.addChild(node)
+        self.root.addChild(frame)
+        self.graph.addChild(self.root)
+        self.update("FREE")
+
+    def attached(self):
+        return self.graph is not None and self.graph.findChild(self.root) >= 0
+
+    def update(self, state, hand=None, forces=None, frame_rotation=None, fault=False):
+        """state: the grasp state; hand: (index, thumb, wrist) Vectors in mm or None;
+        forces: (index, thumb) force Vectors in N or None; frame_rotation: the grasped
+        part's Rotation (None: the world axes)."""
+        colour = FAULT_COLOUR if fault else STATE_COLOURS.get(state, STATE_COLOURS["FREE"])
+        self.state_material.diffuseColor = colour
+        self.state_material.emissiveColor = tuple(0.5 * c for c in colour)  # lit or not
+        if hand is None:
+            return
+        index, thumb, wrist = hand
+        for move, point in zip(self.fingertips, (index, thumb)):
+            move.translation = (point.x, point.y, point.z)
+        self.wrist.translation = (wrist.x, wrist.y, wrist.z)
+        for (switch, coords, head), point, force in zip(self.arrows, (index, thumb), forces or (None, None)):
+            if force is None or force.Length < 1e-9:
+                switch.whichChild = self.coin.SO_SWITCH_NONE
+                continue
+            tip = point + force * ARROW_MM_PER_N
+            coords.point.setValues(0, 2, [(point.x, point.y, point.z), (tip.x, tip.y, tip.z)])
+            head.translation = (tip.x, tip.y, tip.z)
+            head.rotation = self.coin.SbRotation(self.coin.SbVec3f(0, 1, 0),
+                                                 self.coin.SbVec3f(force.x, force.y, force.z))
+            switch.whichChild = self.coin.SO_SWITCH_ALL
+        centre = (index + thumb) * 0.5
+        rotation = frame_rotation or App.Rotation()
+        points = []
+        for axis in (App.Vector(1, 0, 0), App.Vector(0, 1, 0), App.Vector(0, 0, 1)):
+            end = centre + rotation.multVec(axis) * FRAME_LENGTH_MM
+            points += [(centre.x, centre.y, centre.z), (end.x, end.y, end.z)]
+        self.frame_coords.point.setValues(0, 6, points)
+
+    def remove(self):
+        if self.graph is not None and self.graph.findChild(self.root) >= 0:
+            self.graph.removeChild(self.root)
+        self.graph = None

@@ -1,0 +1,128 @@
+"""Task panel of a haptic session (Gui.Control.showDialog): state, fingertip forces,
+grasping force, servo rate and jitter, Start/Stop. Filled from the controller's timer tick."""
+import time
+
+NOT_EXPOSED = "n/a (not in the core snapshot)"
+
+
+def _vector_text(v):
+    return "%.2f N  (%.2f, %.2f, %.2f)" % (v.Length, v.x, v.y, v.z)
+
+
+class RateMeter:
+    """Servo rate measured from the snapshot's tick counter against the wall clock."""
+
+    def __init__(self, window_s=0.5):
+        self.window_s = window_s
+        self.mark = None
+        self.rate_hz = None
+
+    def update(self, tick, now=None):
+        now = time.monotonic() if now is None else now
+        if self.mark is None or tick < self.mark[0]:
+            self.mark = (tick, now)
+            return self.rate_hz
+        dt = now - self.mark[1]
+        if dt >= self.window_s:
+            self.rate_hz = (tick - self.mark[0]) / dt
+            self.mark = (tick, now)
+        return self.rate_hz
+
+
+class HapticTaskPanel:
+    """The task dialog; `form` is the QWidget FreeCAD shows in the combo view."""
+
+    def __init__(self, controller):
+        from PySide2 import QtWidgets
+        self.controller = controller
+        self.form = QtWidgets.QWidget()
+        self.form.setObjectName("HapticGraspTaskPanel")
+        self.form.setWindowTitle("HapticGrasp")
+        layout = QtWidgets.QVBoxLayout(self.form)
+        grid = QtWidgets.QFormLayout()
+        self.fields = {}
+        for key, title in (("device", "Device"), ("state", "State"), ("part", "Grasped part"),
+                           ("index", "Index force"), ("thumb", "Thumb force"), ("grip", "Grasping force"),
+                           ("rate", "Servo rate"), ("jitter", "Servo jitter"), ("time", "Servo time"),
+                           ("moves", "Moves / faults"), ("sound", "Sound")):
+            label = QtWidgets.QLabel("-")
+            label.setObjectName("HapticGrasp_" + key)
+            grid.addRow(title + ":", label)
+            self.fields[key] = label
+        layout.addLayout(grid)
+        buttons = QtWidgets.QHBoxLayout()
+        self.start_button = QtWidgets.QPushButton("Start")
+        self.start_button.setObjectName("HapticGrasp_StartButton")
+        self.stop_button = QtWidgets.QPushButton("Stop")
+        self.stop_button.setObjectName("HapticGrasp_StopButton")
+        self.start_button.clicked.connect(self._start)
+        self.stop_button.clicked.connect(self._stop)
+        buttons.addWidget(self.start_button)
+        buttons.addWidget(self.stop_button)
+        layout.addLayout(buttons)
+        layout.addStretch(1)
+        self.rate = RateMeter()
+        self.set_running(False)
+
+    # --- FreeCAD task dialog protocol -------------------------------------------------
+    def getStandardButtons(self):
+        from PySide2 import QtWidgets
+        return int(QtWidgets.QDialogButtonBox.Close)
+
+    def reject(self):
+        import FreeCADGui as Gui
+        self.controller.stop()
+        self.controller.panel = None
+        Gui.Control.closeDialog()
+        return True
+
+    def accept(self):
+        return self.reject()
+
+    # --- buttons ------------------------------------------------------------------------
+    def _start(self):
+        self.controller.start()
+
+    def _stop(self):
+        self.controller.stop()
+
+    def set_running(self, running):
+        self.start_button.setEnabled(not running)
+        self.stop_button.setEnabled(running)
+        if running:
+            self.rate = RateMeter()
+        else:
+            self.fields["state"].setText("stopped")
+
+    def set(self, key, text):
+        self.fields[key].setText(text)
+
+    def update(self, session, snap, sounds=None):
+        f = self.fields
+        fault = snap.get("fault", "none")
+        f["device"].setText(session.core.device_name)
+        f["state"].setText(snap["state"] + ("" if fault == "none" else "  (fault: %s)" % fault))
+        grasped = snap.get("grasped", -1)
+        f["part"].setText(session.objects[grasped].Label if 0 <= grasped < len(session.objects) else "-")
+        forces = snap.get("forces")   # not exposed by the binding yet: shown as such
+        if forces is not None:
+            import FreeCAD as App
+            f["index"].setText(_vector_text(App.Vector(*forces[0])))
+            f["thumb"].setText(_vector_text(App.Vector(*forces[1])))
+        else:
+            f["index"].setText(NOT_EXPOSED)
+            f["thumb"].setText(NOT_EXPOSED)
+        grip = snap.get("grasp_force_n")
+        f["grip"].setText("%.2f N" % grip if grip is not None else NOT_EXPOSED)
+        rate = snap.get("rate_hz")
+        if rate is None:
+            measured = self.rate.update(snap.get("tick", 0))
+            f["rate"].setText("%.0f Hz (ticks / wall clock)" % measured if measured is not None else "measuring...")
+        else:
+            f["rate"].setText("%.0f Hz" % rate)
+        jitter = snap.get("jitter_us")
+        f["jitter"].setText("%.1f us" % jitter if jitter is not None else NOT_EXPOSED)
+        f["time"].setText("%.2f s (tick %d)" % (snap.get("time_s", 0.0), snap.get("tick", 0)))
+        f["moves"].setText("%d / %d" % (session.moves, snap.get("faults", 0)))
+        if sounds is not None:
+            f["sound"].setText("on" if sounds.available else "silent (no audio output ready)")
