@@ -119,6 +119,14 @@ SessionSnapshot Session::snapshot() {
   out.fault = servo::toString(s.watchdog.fault);
   out.faults = s.watchdog.trips;
   for (int i = 0; i < s.partCount; ++i) out.placements.push_back(toPlacement(s.poses[i]));
+  const auto newtons = [](const Vec3& f) { return std::array<double, 3>{f.x(), f.y(), f.z()}; };
+  out.forces_N = {newtons(s.sent.f_index), newtons(s.sent.f_thumb)};
+  out.graspForce_N = s.sent.f_grasp;
+  out.index_mm = toMillimetres(s.hand.index);
+  out.thumb_mm = toMillimetres(s.hand.thumb);
+  out.wrist_mm = toMillimetres(s.hand.wrist);
+  out.rate_hz = s.timing.achieved_hz;
+  out.jitter_us = s.timing.periodError.p99_us;
   return out;
 }
 

@@ -42,6 +42,14 @@ struct SessionSnapshot {
   std::string fault = "none";          // active watchdog fault
   std::uint64_t faults = 0;            // watchdog trips since start
   std::vector<Placement> placements;   // every part, mm + quaternion
+  // What the operator feels (after passivity, saturation and the watchdog's gain), N,
+  // absolute frame (FreeCAD's axes): index and thumb fingertip forces, the grasping force.
+  std::array<std::array<double, 3>, 2> forces_N{};
+  double graspForce_N = 0;
+  // The hand the servo loop last used, mm.
+  std::array<double, 3> index_mm{0, 0, 0}, thumb_mm{0, 0, 0}, wrist_mm{0, 0, 0};
+  double rate_hz = 0;      // achieved servo rate
+  double jitter_us = 0;    // period error, p99
 };
 
 class Session {

@@ -131,10 +131,19 @@ PYBIND11_MODULE(_hapticgrasp, m) {
             py::list placements;
             for (const auto& p : snap.placements) placements.append(toTuple(p));
             d["placements"] = placements;
+            d["forces"] = py::make_tuple(py::make_tuple(snap.forces_N[0][0], snap.forces_N[0][1], snap.forces_N[0][2]),
+                                         py::make_tuple(snap.forces_N[1][0], snap.forces_N[1][1], snap.forces_N[1][2]));
+            d["grasp_force_n"] = snap.graspForce_N;
+            const auto mm = [](const std::array<double, 3>& p) { return py::make_tuple(p[0], p[1], p[2]); };
+            d["hand"] = py::make_tuple(mm(snap.index_mm), mm(snap.thumb_mm), mm(snap.wrist_mm));
+            d["rate_hz"] = snap.rate_hz;
+            d["jitter_us"] = snap.jitter_us;
             return d;
           },
-          "state, grasped part, events since the previous snapshot, watchdog fault, and every part's "
-          "placement as ((x, y, z) mm, (qx, qy, qz, qw)).");
+          "state, grasped part, events since the previous snapshot, watchdog fault, every part's "
+          "placement as ((x, y, z) mm, (qx, qy, qz, qw)), the fingertip forces felt (N), the "
+          "grasping force (N), the hand (index, thumb, wrist; mm), the servo rate (Hz) and its "
+          "period jitter (p99, us).");
 
   py::dict events;
   for (int bit = 0; bit < grasp::kEventCount; ++bit)
