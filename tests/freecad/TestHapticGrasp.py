@@ -253,3 +253,139 @@ class HapticGraspDocument(unittest.TestCase):
     def test_a_broken_part_is_refused_with_a_clear_error(self):
         with self.assertRaises(ValueError):
             core.part_info("DBRep_DrawableShape\nCASCADE Topology V1, (c) Matra-Datavision\nLocations 3\n")
+
+
+class MouseHandGeometry(unittest.TestCase):
+    """The mouse-and-keyboard hand, pure Python."""
+
+    def test_moves_in_the_view_plane_as_computed(self):
+        from HapticGrasp.mouse_hand import MouseHand
+        hand = MouseHand(centre_mm=(10.0, 20.0, 30.0), grip_mm=40.0)
+        right, up = (0.0, 1.0, 0.0), (0.0, 0.0, 2.0)   # up not unit: normalised
+        hand.move_in_view_plane(10, -4, right, up, 0.5)
+        self.assertEqual(hand.centre, (10.0, 25.0, 28.0))
+        index, thumb, wrist = hand.tick(0.0)
+        self.assertEqual(index, (10.0, 45.0, 28.0))   # along the view's right vector
+        self.assertEqual(thumb, (10.0, 5.0, 28.0))
+        self.assertEqual(wrist, (10.0, 25.0, 128.0))  # above, along the view's up vector
+
+    def test_wheel_moves_along_the_view_direction(self):
+        from HapticGrasp.mouse_hand import MouseHand
+        hand = MouseHand(centre_mm=(0.0, 0.0, 0.0))
+        hand.wheel(3, (0.0, 0.0, -4.0), 5.0)
+        self.assertEqual(hand.centre, (0.0, 0.0, -15.0))
+        hand.wheel(-1, (0.0, 0.0, -1.0), 5.0)
+        self.assertEqual(hand.centre, (0.0, 0.0, -10.0))
+
+    def test_pinch_closes_the_grip_over_time_and_release_opens_it(self):
+        from HapticGrasp.mouse_hand import MouseHand
+        hand = MouseHand(grip_mm=60.0, min_grip_mm=10.0, rate_mm_s=40.0)
+        hand.pinch(True)
+        hand.tick(0.5)
+        self.assertAlmostEqual(hand.grip, 40.0)
+        index, thumb, _ = hand.tick(0.25)
+        self.assertAlmostEqual(hand.grip, 30.0)
+        self.assertAlmostEqual(index[0] - thumb[0], 30.0)
+        hand.tick(10.0)
+        self.assertAlmostEqual(hand.grip, 10.0)        # not below the minimum
+        hand.pinch(False)
+        hand.tick(0.5)
+        self.assertAlmostEqual(hand.grip, 30.0)
+        hand.tick(10.0)
+        self.assertAlmostEqual(hand.grip, 60.0)        # open again, not beyond
+
+
+class MouseHandSession(unittest.TestCase):
+    """A session driven by MouseHand ticks, as the GUI's timer does (no GUI)."""
+
+    setUp = HapticGraspDocument.setUp
+    tearDown = HapticGraspDocument.tearDown
+
+    RIGHT, UP, INTO = (1.0, 0.0, 0.0), (0.0, 0.0, 1.0), (0.0, 1.0, 0.0)   # the front view
+
+    def drive(self, s, hand, steps, period=0.02):
+        """steps: [(duration_s, action)], action(hand, dt) called every tick; the hand is
+        fed every tick and the document ticked. Returns the states seen."""
+        states = []
+        for duration, action in steps:
+            end = time.monotonic() + duration
+            last = time.monotonic()
+            while time.monotonic() < end and s.running:
+                now = time.monotonic()
+                dt, last = now - last, now
+                if action:
+                    action(hand, dt)
+                s.set_hand(*hand.tick(dt))
+                state = s.tick()["state"]
+                if not states or states[-1] != state:
+                    states.append(state)
+                time.sleep(period)
+        return states
+
+    def mouse_session(self):
+        from HapticGrasp.mouse_hand import MouseHand
+        self.session = s = hs.HapticSession(self.doc)
+        s.use_hand_input(hold_s=0.5)
+        box = self.cylinder.Shape.BoundBox
+        diameter = box.XLength
+        start = box.Center + App.Vector(0, 0, 100.0)          # above the part, outside
+        hand = MouseHand(centre_mm=start, grip_mm=diameter + 40.0, min_grip_mm=diameter - 1.0,
+                         rate_mm_s=60.0, right=self.RIGHT, up=self.UP, view_dir=self.INTO)
+        return s, hand
+
+    @staticmethod
+    def move(dx_px, dy_px, duration, mm_per_px=1.0):
+        """Mouse motion spread over `duration` seconds of ticks."""
+        left = [1.0]   # the fraction of the motion still to come
+
+        def action(hand, dt):
+            u = min(left[0], dt / duration)
+            left[0] -= u
+            hand.move_in_view_plane(dx_px * u, dy_px * u, MouseHandSession.RIGHT, MouseHandSession.UP, mm_per_px)
+        return action
+
+    def test_approach_pinch_lift_release_moves_the_part_up_in_one_undo_step(self):
+        before = App.Placement(self.cylinder.Placement)
+        s, hand = self.mouse_session()
+        target_z = hand.centre[2] - 100.0
+        s.start()
+        states = self.drive(s, hand, [(0.1, None), (0.6, self.move(0, -100, 0.5)), (0.2, None)])
+        self.assertAlmostEqual(hand.centre[2], target_z, delta=1e-6)
+        hand.pinch(True)
+        states += self.drive(s, hand, [(1.2, None)])
+        self.assertIn("GRASP", states)
+        lift_from = hand.centre[2]
+        states += self.drive(s, hand, [(0.6, self.move(0, 50, 0.5)), (0.3, None)])
+        self.assertAlmostEqual(hand.centre[2], lift_from + 50.0, delta=1e-6)
+        self.assertIn("MANIPULATE", states)
+        hand.pinch(False)
+        states += self.drive(s, hand, [(1.0, None)])
+        s.stop()
+        self.assertEqual(states[-1], "FREE", states)
+        moved = self.cylinder.Placement.Base - before.Base
+        print("mouse hand: moved by (%.3f, %.3f, %.3f) mm, states %s" % (moved.x, moved.y, moved.z, states))
+        self.assertAlmostEqual(moved.x, 0.0, delta=1.0)
+        self.assertAlmostEqual(moved.y, 0.0, delta=1.0)
+        self.assertAlmostEqual(moved.z, 50.0, delta=2.0)
+        self.assertEqual(self.doc.UndoNames, ["Haptic move Cylinder"])
+
+    def test_cancel_mid_move_restores_the_placement_and_leaves_no_undo_entry(self):
+        before = App.Placement(self.cylinder.Placement)
+        s, hand = self.mouse_session()
+        hand.centre = tuple(self.cylinder.Shape.BoundBox.Center)   # fingers open around it
+        s.start()
+        hand.pinch(True)
+        states = self.drive(s, hand, [(1.2, None), (0.6, self.move(0, 50, 0.5))])
+        self.assertIn("MANIPULATE", states)
+        self.assertIsNotNone(s.active)
+        self.assertGreater((self.cylinder.Placement.Base - before.Base).Length, 5.0)
+        s.cancel()
+        self.assertFalse(s.running)
+        self.assertIsNone(s.active)
+        self.assertEqual(s.aborted, 1)
+        self.assertEqual(s.moves, 0)
+        self.assertTrue(hs.same_placement(self.cylinder.Placement, before), self.cylinder.Placement)
+        self.assertEqual(self.doc.UndoCount, 0)
+        self.assertEqual(len(s.messages), 1, s.messages)
+        self.assertIn("cancelled", s.messages[0])
+        self.assertIn("Cylinder", s.messages[0])

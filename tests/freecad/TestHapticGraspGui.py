@@ -145,6 +145,27 @@ class HapticGraspGui(unittest.TestCase):
         self.assertEqual(board.requested, ["grasp"])
         board.close()
 
+    def test_the_panel_offers_a_device_choice_with_the_mouse(self):
+        from PySide2 import QtWidgets
+        Gui.activateWorkbench("HapticGraspWorkbench")
+        controller = hgui._HapticGraspController
+        panel = controller.show_panel()
+        self.assertIsNotNone(panel)
+        try:
+            combo = panel.form.findChild(QtWidgets.QComboBox, "HapticGrasp_DeviceCombo")
+            self.assertIsNotNone(combo)
+            titles = [combo.itemText(i) for i in range(combo.count())]
+            self.assertIn("Demo script", titles)
+            self.assertIn("Mouse and keyboard", titles)
+            mouse = combo.findData("mouse")
+            self.assertTrue(combo.model().item(mouse).isEnabled())
+            combo.setCurrentIndex(mouse)
+            self.assertEqual(controller.device, "mouse")
+        finally:
+            controller.device = "demo"
+            panel.reject()
+            QtWidgets.QApplication.processEvents()
+
     @staticmethod
     def _overlay_nodes():
         from pivy import coin

@@ -16,6 +16,10 @@ class _HapticGraspController:
     overlay = None    # the Coin overlay (HapticOverlay), present while running
     sounds = None     # SoundBoard, created once
     last_state = "FREE"
+    device = "demo"   # the panel's device choice: "demo" (scripted hand) or "mouse"
+    hand = None       # MouseHand while the mouse-and-keyboard device runs
+    hand_clock = None
+    events = None     # MouseEvents (Coin callbacks on the 3D view) while it runs
 
     @classmethod
     def show_panel(cls):
@@ -47,12 +51,23 @@ class _HapticGraspController:
         if not session.objects:
             App.Console.PrintError("HapticGrasp: no visible solid to grasp\n")
             return
-        # The only device bound so far: a scripted demo hand grasping the selected part
-        # (or the first solid), lifting it, carrying it 100 mm along y, putting it down.
         selected = [o for o in Gui.Selection.getSelection() if o in session.objects]
         target = selected[0] if selected else session.objects[0]
-        keys, frame = hs.demo_script(target)
-        session.use_hand_script(keys, frame)
+        view = getattr(Gui.ActiveDocument, "ActiveView", None) if Gui.ActiveDocument else None
+        if cls.device == "mouse" and view is not None and hasattr(view, "addEventCallbackPivy"):
+            # A hand fed from Python: the mouse and keyboard move a MouseHand, the timer
+            # feeds session.set_hand() with its tick; silent 0.5 s -> watchdog fault.
+            import time
+            session.use_hand_input(hold_s=0.5)
+            cls.hand = _mouse_hand_for(view, target)
+            cls.hand_clock = time.monotonic()
+            session.set_hand(*cls.hand.tick(0.0))
+            cls.events = MouseEvents(view, cls)
+        else:
+            # The scripted demo hand grasping the selected part (or the first solid),
+            # lifting it, carrying it 100 mm along y, putting it down.
+            keys, frame = hs.demo_script(target)
+            session.use_hand_script(keys, frame)
         session.start()
         cls.session = session
         cls.last_state = "FREE"
@@ -61,7 +76,6 @@ class _HapticGraspController:
         cls.show_panel()
         if cls.panel is not None:
             cls.panel.set_running(True)
-        view = getattr(Gui.ActiveDocument, "ActiveView", None) if Gui.ActiveDocument else None
         if view is not None and hasattr(view, "getSceneGraph"):
             try:
                 from . import overlay as hoverlay
@@ -80,6 +94,11 @@ class _HapticGraspController:
         if cls.session is None:
             return
         try:
+            if cls.hand is not None:
+                import time
+                now = time.monotonic()
+                dt, cls.hand_clock = now - cls.hand_clock, now
+                cls.session.set_hand(*cls.hand.tick(dt))
             snap = cls.session.tick()
             cls._show(snap)
         except Exception as e:  # never let the timer die silently
@@ -112,7 +131,21 @@ class _HapticGraspController:
             cls.overlay.update(state, session.hand_at(snap.get("time_s", 0.0)), forces, rotation, fault)
 
     @classmethod
+    def cancel(cls):
+        """Esc: the open manipulation is aborted (part back, no undo entry), haptics stop."""
+        if cls.session is None:
+            return
+        cls.session.cancel()
+        cls.stop()
+
+    @classmethod
     def stop(cls):
+        if cls.events is not None:
+            try:
+                cls.events.remove()
+            finally:
+                cls.events = None
+        cls.hand = None
         if cls.timer is not None:
             cls.timer.stop()
             cls.timer = None
@@ -127,6 +160,95 @@ class _HapticGraspController:
             cls.session.stop()
             cls.session = None
             App.Console.PrintMessage("HapticGrasp: stopped\n")
+
+
+def _mouse_hand_for(view, target):
+    """A MouseHand above `target` (outside it, in the view's up direction), grip open
+    wider than the part, oriented by the view's camera."""
+    from .mouse_hand import MouseHand
+    rotation = view.getCameraOrientation()
+    right = rotation.multVec(App.Vector(1, 0, 0))
+    up = rotation.multVec(App.Vector(0, 1, 0))
+    into = rotation.multVec(App.Vector(0, 0, -1))
+    box = target.Shape.BoundBox
+    size = box.DiagonalLength
+    return MouseHand(centre_mm=box.Center + up * (0.5 * size + 20.0), grip_mm=size + 40.0,
+                     min_grip_mm=0.0, rate_mm_s=40.0, right=right, up=up, view_dir=into,
+                     wrist_up_mm=100.0)
+
+
+class MouseEvents:
+    """Coin event callbacks on the 3D view feeding the controller's MouseHand: mouse motion
+    moves it in the view plane, the wheel along the view direction, G held pinches, Esc
+    cancels. Removed by remove() (Stop)."""
+
+    PINCH_KEY = "G"
+    MM_PER_WHEEL_STEP = 10.0
+
+    def __init__(self, view, controller):
+        from pivy import coin
+        self.coin = coin
+        self.view = view
+        self.controller = controller
+        self.last = None   # last mouse position (pixels, Coin: y up)
+        self.callbacks = []
+        for kind, handler in ((coin.SoLocation2Event, self._motion),
+                              (coin.SoMouseButtonEvent, self._button),
+                              (coin.SoKeyboardEvent, self._key)):
+            type_id = kind.getClassTypeId()
+            self.callbacks.append((type_id, view.addEventCallbackPivy(type_id, handler)))
+
+    def remove(self):
+        for type_id, callback in self.callbacks:
+            try:
+                self.view.removeEventCallbackPivy(type_id, callback)
+            except Exception:   # the view was closed meanwhile
+                pass
+        self.callbacks = []
+
+    def _camera(self):
+        rotation = self.view.getCameraOrientation()
+        return (rotation.multVec(App.Vector(1, 0, 0)), rotation.multVec(App.Vector(0, 1, 0)),
+                rotation.multVec(App.Vector(0, 0, -1)))
+
+    def _motion(self, node):
+        hand = self.controller.hand
+        if hand is None:
+            return
+        x, y = node.getEvent().getPosition().getValue()
+        if self.last is not None:
+            dx, dy = x - self.last[0], y - self.last[1]
+            right, up, _ = self._camera()
+            # mm per pixel at the focal plane (getPoint takes Qt coordinates; the scale is the same)
+            size = self.view.getSize()
+            p0 = self.view.getPoint(int(x), int(size[1] - y))
+            p1 = self.view.getPoint(int(x) + 1, int(size[1] - y))
+            hand.move_in_view_plane(dx, dy, right, up, (p1 - p0).Length)
+        self.last = (x, y)
+
+    def _button(self, node):
+        coin = self.coin
+        hand = self.controller.hand
+        event = node.getEvent()
+        if hand is None or event.getState() != coin.SoButtonEvent.DOWN:
+            return
+        steps = {coin.SoMouseButtonEvent.BUTTON4: 1, coin.SoMouseButtonEvent.BUTTON5: -1}.get(event.getButton())
+        if steps is not None:
+            hand.wheel(steps, self._camera()[2], self.MM_PER_WHEEL_STEP)
+            node.setHandled()   # the hand moves, not the camera
+
+    def _key(self, node):
+        coin = self.coin
+        event = node.getEvent()
+        key = event.getKey()
+        down = event.getState() == coin.SoButtonEvent.DOWN
+        if key == coin.SoKeyboardEvent.ESCAPE and down:
+            node.setHandled()
+            from PySide2 import QtCore   # not from inside the callback being removed
+            QtCore.QTimer.singleShot(0, self.controller.cancel)
+        elif key == getattr(coin.SoKeyboardEvent, self.PINCH_KEY) and self.controller.hand is not None:
+            self.controller.hand.pinch(down)
+            node.setHandled()
 
 
 class _StartCommand:

@@ -4,6 +4,20 @@ import time
 
 NOT_EXPOSED = "n/a (not in the core snapshot)"
 
+# (key, title, the core's Session method that binds the device); a device whose method the
+# built module lacks is listed, disabled, as "(not available in this build)".
+DEVICES = (
+    ("demo", "Demo script", "set_hand_script"),
+    ("mouse", "Mouse and keyboard", "use_hand_input"),
+    ("spacemouse", "SpaceMouse", "use_spacemouse"),
+    ("hid", "HID layout", "use_hid"),
+)
+
+
+def available_devices(core_session_class):
+    """[(key, title, available)] for the combo."""
+    return [(key, title, hasattr(core_session_class, method)) for key, title, method in DEVICES]
+
 
 def _vector_text(v):
     return "%.2f N  (%.2f, %.2f, %.2f)" % (v.Length, v.x, v.y, v.z)
@@ -40,6 +54,19 @@ class HapticTaskPanel:
         self.form.setWindowTitle("HapticGrasp")
         layout = QtWidgets.QVBoxLayout(self.form)
         grid = QtWidgets.QFormLayout()
+        self.device_combo = QtWidgets.QComboBox()
+        self.device_combo.setObjectName("HapticGrasp_DeviceCombo")
+        self.device_combo.setToolTip("Mouse and keyboard: move the mouse to move the hand in the view "
+                                     "plane, wheel for depth, hold G to pinch, Esc cancels")
+        from . import session as hs
+        for key, title, available in available_devices(hs.core.Session):
+            self.device_combo.addItem(title if available else title + " (not available in this build)", key)
+            if not available:
+                self.device_combo.model().item(self.device_combo.count() - 1).setEnabled(False)
+        chosen = self.device_combo.findData(getattr(controller, "device", "demo"))
+        self.device_combo.setCurrentIndex(max(0, chosen))
+        self.device_combo.currentIndexChanged.connect(self._device_changed)
+        grid.addRow("Input:", self.device_combo)
         self.fields = {}
         for key, title in (("device", "Device"), ("state", "State"), ("part", "Grasped part"),
                            ("index", "Index force"), ("thumb", "Thumb force"), ("grip", "Grasping force"),
@@ -86,7 +113,14 @@ class HapticTaskPanel:
     def _stop(self):
         self.controller.stop()
 
+    def device(self):
+        return self.device_combo.currentData()
+
+    def _device_changed(self, _index):
+        self.controller.device = self.device()
+
     def set_running(self, running):
+        self.device_combo.setEnabled(not running)
         self.start_button.setEnabled(not running)
         self.stop_button.setEnabled(running)
         if running:

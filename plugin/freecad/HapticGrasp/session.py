@@ -165,6 +165,15 @@ class HapticSession:
             self._apply(self.core.snapshot())
             self._commit()
 
+    def cancel(self):
+        """Esc: stops the servo thread; a manipulation still open is aborted (no undo
+        entry, the part back where it was) and the report view says "cancelled"."""
+        self.core.stop()
+        if self.active is not None:
+            self._abort("cancelled", _warn)
+        else:
+            _warn(self.messages, "cancelled, haptics stopped (nothing was being moved)")
+
     @property
     def running(self):
         return self.core.running
@@ -222,7 +231,10 @@ class HapticSession:
         # The core reset the grasp (every part back at its start pose): parts moved earlier
         # in this session would no longer match the document, so the session ends here.
         self.core.stop()
-        why = "device fault (%s), haptics stopped" % snap["fault"]
+        self._abort("device fault (%s), haptics stopped" % snap["fault"], _error)
+
+    def _abort(self, why, say):
+        """Aborts the open manipulation (if any): its transaction, the part back."""
         if self.active is not None:
             obj = self.objects[self.active]
             self.doc.abortTransaction()
@@ -231,9 +243,9 @@ class HapticSession:
             self.active = None
             self.original = None
             self.aborted += 1
-            _error(self.messages, "%s: move of %s aborted, the part is back where it was" % (why, obj.Label))
+            say(self.messages, "%s: move of %s aborted, the part is back where it was" % (why, obj.Label))
         else:
-            _error(self.messages, "%s: the grasp was reset" % why)
+            say(self.messages, "%s: the grasp was reset" % why)
 
 
 def demo_script(obj, lift_mm=50.0, move_mm=(0.0, 100.0, 0.0), lift=True, turn_rad=0.0):
