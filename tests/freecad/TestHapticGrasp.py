@@ -250,9 +250,96 @@ class HapticGraspDocument(unittest.TestCase):
         self.assertEqual(len(s.messages), 1, s.messages)
         self.assertIn("device fault (silent)", s.messages[0])
 
+    def test_a_changed_shape_is_rebuilt_by_the_next_session(self):
+        # Models are built when a session is made (at Start): edit the radius in between.
+        tube = self.doc.addObject("Part::Cylinder", "Tube")
+        tube.Radius, tube.Height = 20.0, 50.0
+        tube.Placement = App.Placement(App.Vector(0, 500, 0), App.Rotation())
+        self.doc.recompute()
+        first = hs.HapticSession(self.doc)
+        self.session = first
+        index = [o.Name for o in first.objects].index("Tube")
+        keys, frame = hs.demo_script(tube, lift=False)
+        first.use_hand_script(keys, frame)
+        first.start()
+        run(first, 0.2)
+        first.stop()
+        small = first.core.part_info(index)["volume_mm3"]
+        self.assertAlmostEqual(small, tube.Shape.Volume, delta=1e-3 * tube.Shape.Volume)
+        tube.Radius = 30.0
+        self.doc.recompute()
+        self.session = second = hs.HapticSession(self.doc)
+        big = second.core.part_info([o.Name for o in second.objects].index("Tube"))["volume_mm3"]
+        print("tube volume %.0f -> %.0f mm^3" % (small, big))
+        self.assertAlmostEqual(big, tube.Shape.Volume, delta=1e-3 * tube.Shape.Volume)
+        self.assertAlmostEqual(big / small, 2.25, delta=0.01)
+
     def test_a_broken_part_is_refused_with_a_clear_error(self):
         with self.assertRaises(ValueError):
             core.part_info("DBRep_DrawableShape\nCASCADE Topology V1, (c) Matra-Datavision\nLocations 3\n")
+
+
+class ForceParameters(unittest.TestCase):
+    """The force parameters of the preferences page reach the core at start()."""
+
+    setUp = HapticGraspDocument.setUp
+    make_session = HapticGraspDocument.make_session
+
+    def tearDown(self):
+        group = App.ParamGet(hs.PARAMETER_PATH)
+        for key in hs.PARAMETER_KEYS:
+            group.RemFloat(key)
+        HapticGraspDocument.tearDown(self)
+
+    def test_the_defaults_are_the_papers_and_the_cores(self):
+        stored = hs.stored_parameters()
+        self.assertEqual({k: stored[k] for k in ("K_c", "B_c", "K_g", "B_g")},
+                         {"K_c": 130.0, "B_c": 100.0, "K_g": 1000.0, "B_g": 800.0})
+        self.assertEqual(stored, core.Session().parameters())
+        self.assertEqual(stored["d_h"], 0.002)
+
+    def squeeze_force(self, **stored):
+        """The grasping force felt while the demo hand holds its squeeze (no lift)."""
+        hs.store_parameters(stored)
+        s = self.make_session(lift=False)
+        s.start()
+        self.assertEqual(s.core.parameters(), hs.stored_parameters())
+        forces = []
+
+        def record(snap):
+            if snap["state"] == "GRASP" and 0.75 <= snap["time_s"] <= 0.95:
+                forces.append(snap["grasp_force_n"])
+
+        run(s, 0.95, on_tick=record)
+        s.stop()
+        self.assertTrue(forces, "never saw GRASP during the squeeze")
+        return sum(forces) / len(forces)
+
+    def test_a_stiffer_grasp_spring_from_the_preferences_squeezes_harder(self):
+        # Soft springs: the demo squeeze with the paper's K_g already reaches the device's
+        # force limit (10 N), where a stiffer spring could not be told apart.
+        soft = self.squeeze_force(K_g=40.0)
+        self.session.core.stop()
+        stiff = self.squeeze_force(K_g=120.0)
+        print("grasping force: K_g 40 -> %.2f N, K_g 120 -> %.2f N" % (soft, stiff))
+        self.assertGreater(soft, 0.5)
+        self.assertLess(stiff, 9.5)   # below the saturation
+        self.assertAlmostEqual(stiff / soft, 3.0, delta=0.3)   # F = K_g sqrt(d) at rest
+
+    def test_a_bad_value_raises_value_error_naming_the_key(self):
+        hs.store_parameters({"K_g": -5.0})
+        s = self.make_session()
+        with self.assertRaises(ValueError) as caught:
+            s.start()
+        self.assertIn("K_g", str(caught.exception))
+        self.assertFalse(s.running)
+        for bad, key in (({"B_c": float("nan")}, "B_c"), ({"K_ox": "stiff"}, "K_ox"), ({"Q": 1.0}, "Q")):
+            with self.assertRaises(ValueError) as caught:
+                core.Session().set_parameters(bad)
+            self.assertIn(key, str(caught.exception))
+        with self.assertRaises(ValueError) as caught:   # explicit parameters: the same check
+            s.start(parameters={"d_h": -1e-3})
+        self.assertIn("d_h", str(caught.exception))
 
 
 class MouseHandGeometry(unittest.TestCase):
@@ -389,3 +476,41 @@ class MouseHandSession(unittest.TestCase):
         self.assertEqual(len(s.messages), 1, s.messages)
         self.assertIn("cancelled", s.messages[0])
         self.assertIn("Cylinder", s.messages[0])
+
+    def test_closing_the_panel_mid_move_cancels_like_esc(self):
+        # The panel's Close / the dialog's reject go through panel.close_session(): the real
+        # controller, without a GUI (no timer, overlay or Coin callbacks in freecadcmd).
+        from HapticGrasp import gui as hgui
+        from HapticGrasp import panel as hpanel
+        controller = hgui._HapticGraspController
+        before = App.Placement(self.cylinder.Placement)
+        s, hand = self.mouse_session()
+        hand.centre = tuple(self.cylinder.Shape.BoundBox.Center)   # fingers open around it
+        s.start()
+        hand.pinch(True)
+        states = self.drive(s, hand, [(1.2, None), (0.6, self.move(0, 50, 0.5))])
+        self.assertIn("MANIPULATE", states)
+        self.assertIsNotNone(s.active)
+        self.assertGreater((self.cylinder.Placement.Base - before.Base).Length, 5.0)
+
+        class PanelStub:
+            running = None
+
+            def set_running(self, running):
+                self.running = running
+
+        stub = PanelStub()
+        controller.session, controller.panel = s, stub
+        try:
+            hpanel.close_session(controller)
+        finally:
+            controller.session = controller.panel = None
+        self.assertIs(stub.running, False)
+        self.assertFalse(s.running)
+        self.assertIsNone(s.active)
+        self.assertEqual(s.aborted, 1)
+        self.assertEqual(s.moves, 0)
+        self.assertTrue(hs.same_placement(self.cylinder.Placement, before), self.cylinder.Placement)
+        self.assertEqual(self.doc.UndoCount, 0)
+        self.assertEqual(len(s.messages), 1, s.messages)
+        self.assertIn("cancelled", s.messages[0])

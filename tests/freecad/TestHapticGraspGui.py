@@ -145,6 +145,28 @@ class HapticGraspGui(unittest.TestCase):
         self.assertEqual(board.requested, ["grasp"])
         board.close()
 
+    def test_the_preferences_page_stores_the_force_parameters(self):
+        from HapticGrasp import prefs as hprefs
+        group = App.ParamGet(hs.PARAMETER_PATH)
+        page = hprefs.HapticGraspPreferences()
+        try:
+            self.assertEqual(page.form.windowTitle(), "Haptic Grasp")
+            page.loadSettings()
+            shown = {key: spin.value() for key, spin in page.spins.items()}
+            self.assertEqual(shown, hs.default_parameters())
+            self.assertEqual(shown["K_g"], 1000.0)
+            page.spins["K_g"].setValue(1500.0)
+            page.spins["d_h"].setValue(0.003)
+            page.saveSettings()
+            self.assertEqual(group.GetFloat("K_g"), 1500.0)
+            self.assertEqual(hs.stored_parameters()["d_h"], 0.003)
+            page.reset()
+            self.assertEqual(page.spins["K_g"].value(), 1000.0)
+        finally:
+            for key in hs.PARAMETER_KEYS:
+                group.RemFloat(key)
+            page.form.deleteLater()
+
     def test_the_panel_offers_a_device_choice_with_the_mouse(self):
         from PySide2 import QtWidgets
         Gui.activateWorkbench("HapticGraspWorkbench")

@@ -61,14 +61,20 @@ class _HapticGraspController:
             session.use_hand_input(hold_s=0.5)
             cls.hand = _mouse_hand_for(view, target)
             cls.hand_clock = time.monotonic()
-            session.set_hand(*cls.hand.tick(0.0))
             cls.events = MouseEvents(view, cls)
         else:
             # The scripted demo hand grasping the selected part (or the first solid),
             # lifting it, carrying it 100 mm along y, putting it down.
             keys, frame = hs.demo_script(target)
             session.use_hand_script(keys, frame)
-        session.start()
+        try:
+            session.start()   # with the force parameters of the preferences
+        except ValueError as e:
+            App.Console.PrintError("HapticGrasp: bad force parameter (Preferences > Haptic Grasp): %s\n" % e)
+            cls.stop()   # the mouse callbacks, if any
+            return
+        if cls.hand is not None:   # the hand input device exists once started
+            session.set_hand(*cls.hand.tick(0.0))
         cls.session = session
         cls.last_state = "FREE"
         if cls.sounds is None:

@@ -23,6 +23,17 @@ def _vector_text(v):
     return "%.2f N  (%.2f, %.2f, %.2f)" % (v.Length, v.x, v.y, v.z)
 
 
+def close_session(controller):
+    """The panel's Close (the dialog's reject or accept): the same path as Esc, an open
+    manipulation is cancelled (the part back where it was, no undo entry), then haptics
+    stop. Nothing is committed by closing the panel."""
+    if controller.session is not None:
+        controller.cancel()
+    else:
+        controller.stop()
+    controller.panel = None
+
+
 class RateMeter:
     """Servo rate measured from the snapshot's tick counter against the wall clock."""
 
@@ -98,8 +109,7 @@ class HapticTaskPanel:
 
     def reject(self):
         import FreeCADGui as Gui
-        self.controller.stop()
-        self.controller.panel = None
+        close_session(self.controller)
         Gui.Control.closeDialog()
         return True
 

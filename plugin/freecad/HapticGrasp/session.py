@@ -23,6 +23,32 @@ DEFAULT_DENSITY_KG_M3 = 1000.0
 DENSITY_PROPERTY = "HapticDensity"   # kg/m^3, per part (App::PropertyFloat)
 HOLDING = ("GRASP", "MANIPULATE")
 
+# Force parameters (SI), set in the preferences page "Haptic Grasp" and read at start().
+PARAMETER_PATH = "User parameter:BaseApp/Preferences/Mod/HapticGrasp"
+PARAMETER_KEYS = ("K_c", "B_c", "K_g", "B_g", "d_h", "K_ox", "K_oe")
+
+
+def default_parameters():
+    """The core's defaults: the paper's K_c 130, B_c 100, K_g 1000, B_g 800; d_h, K_ox, K_oe
+    as GraspParameters chose them."""
+    return core.Session().parameters()
+
+
+def stored_parameters():
+    """The force parameters in the user's preferences (the defaults where none is stored)."""
+    group = App.ParamGet(PARAMETER_PATH)
+    defaults = default_parameters()
+    return {key: group.GetFloat(key, defaults[key]) for key in PARAMETER_KEYS}
+
+
+def store_parameters(values):
+    """Writes force parameters to the user's preferences (not validated here: start() does)."""
+    group = App.ParamGet(PARAMETER_PATH)
+    for key, value in values.items():
+        if key not in PARAMETER_KEYS:
+            raise ValueError("unknown grasp parameter %s" % key)
+        group.SetFloat(key, float(value))
+
 
 def _warn(messages, text):
     messages.append(text)
@@ -153,9 +179,13 @@ class HapticSession:
         return tuple(place(mix(a[i], b[i])) for i in (1, 2, 3))
 
     # --- servo thread -----------------------------------------------------------------
-    def start(self, rate_hz=1000.0, realtime=False):
+    def start(self, rate_hz=1000.0, realtime=False, parameters=None):
+        """Starts the servo thread with the force parameters of the preferences (or
+        `parameters`, a dict in SI). A bad value raises ValueError naming the key."""
         if not self.objects:
             raise RuntimeError("no solid to grasp in %s" % self.doc.Label)
+        self.parameters = stored_parameters() if parameters is None else dict(parameters)
+        self.core.set_parameters(self.parameters)
         self.core.start(rate_hz, realtime)
 
     def stop(self):

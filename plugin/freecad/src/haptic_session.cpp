@@ -73,6 +73,46 @@ std::string Session::deviceName() const {
   return "none";
 }
 
+namespace {
+
+double* parameterField(grasp::GraspParameters& p, const std::string& name) {
+  if (name == "K_c") return &p.K_c;
+  if (name == "B_c") return &p.B_c;
+  if (name == "K_g") return &p.K_g;
+  if (name == "B_g") return &p.B_g;
+  if (name == "d_h") return &p.d_h;
+  if (name == "K_ox") return &p.K_ox;
+  if (name == "K_oe") return &p.K_oe;
+  return nullptr;
+}
+
+}  // namespace
+
+const std::vector<std::string>& Session::parameterNames() {
+  static const std::vector<std::string> names{"K_c", "B_c", "K_g", "B_g", "d_h", "K_ox", "K_oe"};
+  return names;
+}
+
+void Session::setParameters(const std::vector<std::pair<std::string, double>>& values) {
+  if (loop_) throw std::logic_error("parameters must be set before start()");
+  grasp::GraspParameters p = parameters_;
+  for (const auto& [name, value] : values) {
+    double* field = parameterField(p, name);
+    if (!field)
+      throw std::invalid_argument("unknown grasp parameter " + name + " (known: K_c, B_c, K_g, B_g, d_h, K_ox, K_oe)");
+    *field = value;
+  }
+  p.validate();
+  parameters_ = p;
+}
+
+double Session::parameter(const std::string& name) const {
+  grasp::GraspParameters p = parameters_;
+  const double* field = parameterField(p, name);
+  if (!field) throw std::invalid_argument("unknown grasp parameter " + name);
+  return *field;
+}
+
 double Session::scriptDuration() const { return script_ ? script_->duration() : 0.0; }
 
 void Session::start(double rate_hz, bool realtime) {
@@ -90,7 +130,7 @@ void Session::start(double rate_hz, bool realtime) {
   servo::ServoConfig config;
   config.rate_hz = rate_hz;
   config.realtime = realtime;
-  loop_ = std::make_unique<servo::ServoLoop>(device, scene, grasp::GraspParameters{}, config);
+  loop_ = std::make_unique<servo::ServoLoop>(device, scene, parameters_, config);
   loop_->start();
 }
 

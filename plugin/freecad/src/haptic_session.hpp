@@ -11,6 +11,7 @@
 #include "hand_input_device.hpp"
 #include "hapticgrasp/geometry/mass_properties.hpp"
 #include "hapticgrasp/geometry/part_model.hpp"
+#include "hapticgrasp/grasp/grasp_parameters.hpp"
 #include "hapticgrasp/servo/scripted_hand_device.hpp"
 #include "hapticgrasp/servo/servo_loop.hpp"
 
@@ -74,6 +75,15 @@ class Session {
                const std::array<double, 3>& wrist_mm);
   std::string deviceName() const;
 
+  // The force parameters the front end may set (SI): K_c, B_c, K_g, B_g, d_h, K_ox, K_oe.
+  static const std::vector<std::string>& parameterNames();
+  // Before start(). Sets the given keys (the others keep their values) and validates the
+  // whole set with GraspParameters::validate(); nothing changes if it throws
+  // std::invalid_argument (an unknown key, or the validation's message naming the key).
+  void setParameters(const std::vector<std::pair<std::string, double>>& values);
+  const grasp::GraspParameters& parameters() const { return parameters_; }
+  double parameter(const std::string& name) const;
+
   void start(double rate_hz = 1000, bool realtime = false);
   void stop() noexcept;
   bool running() const { return loop_ && loop_->running(); }
@@ -87,6 +97,7 @@ class Session {
  private:
   std::vector<grasp::ScenePart> parts_;
   std::vector<PartInfo> infos_;
+  grasp::GraspParameters parameters_;
   std::unique_ptr<grasp::HandScript> script_;
   double handHold_s_ = 0;  // > 0: the hand input device was chosen
   std::shared_ptr<servo::ScriptedHandDevice> scripted_;

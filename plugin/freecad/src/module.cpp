@@ -108,6 +108,38 @@ PYBIND11_MODULE(_hapticgrasp, m) {
       .def("set_hand", &freecad::Session::setHand, py::arg("index_mm"), py::arg("thumb_mm"), py::arg("wrist_mm"),
            "Any one thread: the hand now (absolute frame, mm); lock-free.")
       .def_property_readonly("device_name", &freecad::Session::deviceName)
+      .def(
+          "set_parameters",
+          [](freecad::Session& s, const py::dict& values) {
+            std::vector<std::pair<std::string, double>> v;
+            for (const auto& item : values) {
+              const std::string name = py::str(item.first);
+              double value = 0;
+              try {
+                if (py::isinstance<py::str>(item.second)) throw py::cast_error();
+                value = py::float_(py::reinterpret_borrow<py::object>(item.second));
+              } catch (const py::error_already_set&) {
+                throw py::value_error("grasp parameter " + name + " must be a number, not " +
+                                      std::string(py::repr(item.second)));
+              } catch (const py::cast_error&) {
+                throw py::value_error("grasp parameter " + name + " must be a number, not " +
+                                      std::string(py::repr(item.second)));
+              }
+              v.emplace_back(name, value);
+            }
+            s.setParameters(v);
+          },
+          py::arg("values"),
+          "Before start(): force parameters in SI, a dict with any of K_c, B_c, K_g, B_g, d_h, K_ox, K_oe "
+          "(the others keep their values). Validated by the core; raises ValueError naming the key.")
+      .def(
+          "parameters",
+          [](const freecad::Session& s) {
+            py::dict d;
+            for (const auto& name : freecad::Session::parameterNames()) d[py::str(name)] = s.parameter(name);
+            return d;
+          },
+          "The force parameters the session starts with (SI): K_c, B_c, K_g, B_g, d_h, K_ox, K_oe.")
       .def("start", &freecad::Session::start, py::arg("rate_hz") = 1000.0, py::arg("realtime") = false,
            py::call_guard<py::gil_scoped_release>())
       .def("stop", &freecad::Session::stop, py::call_guard<py::gil_scoped_release>())

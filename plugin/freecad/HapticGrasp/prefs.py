@@ -1,0 +1,60 @@
+"""The preferences page "Haptic Grasp" (Edit > Preferences): the force parameters of the
+grasp, SI, stored in App.ParamGet(session.PARAMETER_PATH) and read by HapticSession.start().
+Registered from InitGui.py with Gui.addPreferencePage(HapticGraspPreferences, "Haptic Grasp");
+FreeCAD instantiates the class, shows `form` and calls loadSettings()/saveSettings()."""
+
+# (key, label, unit, decimals, maximum, step)
+FIELDS = (
+    ("K_c", "Contact stiffness K_c", "N/m^0.5", 2, 1e7, 10.0),
+    ("B_c", "Contact damping B_c", "N s/m^1.5", 2, 1e7, 10.0),
+    ("K_g", "Grasp stiffness K_g", "N/m^0.5", 2, 1e7, 100.0),
+    ("B_g", "Grasp damping B_g", "N s/m^1.5", 2, 1e7, 100.0),
+    ("d_h", "Grasp hysteresis d_h", "m", 5, 0.1, 0.0005),
+    ("K_ox", "Holding stiffness K_ox", "N/m", 2, 1e7, 100.0),
+    ("K_oe", "Holding rotational stiffness K_oe", "N m/rad", 3, 1e6, 1.0),
+)
+
+
+class HapticGraspPreferences:
+    def __init__(self):
+        from PySide2 import QtWidgets
+        self.form = QtWidgets.QWidget()
+        self.form.setObjectName("HapticGraspPreferences")
+        self.form.setWindowTitle("Haptic Grasp")
+        layout = QtWidgets.QVBoxLayout(self.form)
+        box = QtWidgets.QGroupBox("Force parameters (SI; the paper's K_c 130, B_c 100, K_g 1000, B_g 800)")
+        grid = QtWidgets.QFormLayout(box)
+        self.spins = {}
+        for key, label, unit, decimals, maximum, step in FIELDS:
+            spin = QtWidgets.QDoubleSpinBox()
+            spin.setObjectName("HapticGrasp_Pref_" + key)
+            spin.setDecimals(decimals)
+            spin.setRange(0.0, maximum)
+            spin.setSingleStep(step)
+            spin.setSuffix(" " + unit)
+            grid.addRow(label + ":", spin)
+            self.spins[key] = spin
+        layout.addWidget(box)
+        reset = QtWidgets.QPushButton("Defaults")
+        reset.setObjectName("HapticGrasp_Pref_Defaults")
+        reset.clicked.connect(self.reset)
+        layout.addWidget(reset)
+        layout.addStretch(1)
+        note = QtWidgets.QLabel("Read when haptics start.")
+        layout.addWidget(note)
+
+    def _show(self, values):
+        for key, spin in self.spins.items():
+            spin.setValue(values[key])
+
+    def reset(self):
+        from . import session as hs
+        self._show(hs.default_parameters())
+
+    def loadSettings(self):
+        from . import session as hs
+        self._show(hs.stored_parameters())
+
+    def saveSettings(self):
+        from . import session as hs
+        hs.store_parameters({key: spin.value() for key, spin in self.spins.items()})
