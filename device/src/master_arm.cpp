@@ -147,10 +147,15 @@ Mat3 rotation(const KDL::Frame& f) {
 }
 }  // namespace
 
-void MasterArm::forwardKinematics(const ArmVector& theta, ArmPose& pose) noexcept {
+// The three chains share the arm's joints: each takes its columns of theta.
+void MasterArm::loadChains(const ArmVector& theta) noexcept {
   load(index_, model_->indexColumns(), theta);
   load(thumb_, model_->thumbColumns(), theta);
   load(wrist_, model_->wristColumns(), theta);
+}
+
+void MasterArm::forwardKinematics(const ArmVector& theta, ArmPose& pose) noexcept {
+  loadChains(theta);
   index_.fk.JntToCart(index_.q, index_.frame);
   thumb_.fk.JntToCart(thumb_.q, thumb_.frame);
   wrist_.fk.JntToCart(wrist_.q, wrist_.frame);
@@ -184,9 +189,7 @@ void MasterArm::kinematics(const ArmVector& theta, ArmKinematics& out) noexcept 
 }
 
 void MasterArm::gravityTorques(const ArmVector& theta, ArmVector& tau_g) noexcept {
-  load(index_, model_->indexColumns(), theta);
-  load(thumb_, model_->thumbColumns(), theta);
-  load(wrist_, model_->wristColumns(), theta);
+  loadChains(theta);
   index_.dyn.JntToGravity(index_.q, index_.out);
   thumb_.dyn.JntToGravity(thumb_.q, thumb_.out);
   wrist_.dyn.JntToGravity(wrist_.q, wrist_.out);
@@ -198,9 +201,7 @@ void MasterArm::gravityTorques(const ArmVector& theta, ArmVector& tau_g) noexcep
 }
 
 void MasterArm::massMatrix(const ArmVector& theta, ArmMatrix& m) noexcept {
-  load(index_, model_->indexColumns(), theta);
-  load(thumb_, model_->thumbColumns(), theta);
-  load(wrist_, model_->wristColumns(), theta);
+  loadChains(theta);
   index_.dyn.JntToMass(index_.q, index_.M);
   thumb_.dyn.JntToMass(thumb_.q, thumb_.M);
   wrist_.dyn.JntToMass(wrist_.q, wrist_.M);
@@ -219,9 +220,7 @@ void MasterArm::massMatrix(const ArmVector& theta, ArmMatrix& m) noexcept {
 
 void MasterArm::coriolisTorques(const ArmVector& theta, const ArmVector& thetaDot,
                                 ArmVector& c) noexcept {
-  load(index_, model_->indexColumns(), theta);
-  load(thumb_, model_->thumbColumns(), theta);
-  load(wrist_, model_->wristColumns(), theta);
+  loadChains(theta);
   for (unsigned k = 0; k < index_.qd.rows(); ++k) index_.qd(k) = thetaDot[model_->indexColumns()[k]];
   for (unsigned k = 0; k < thumb_.qd.rows(); ++k) thumb_.qd(k) = thetaDot[model_->thumbColumns()[k]];
   for (unsigned k = 0; k < wrist_.qd.rows(); ++k) wrist_.qd(k) = thetaDot[model_->wristColumns()[k]];

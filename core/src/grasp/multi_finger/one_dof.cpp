@@ -13,6 +13,13 @@ bool finite(double a, double b, double c, double d) {
 }
 double positive(double value, double fallback) { return value > 0 && std::isfinite(value) ? value : fallback; }
 double dampingOf(double k, double m, double zeta) { return 2.0 * std::max(0.0, zeta) * std::sqrt(k * m); }
+// The output of a part at rest before any finger touched it (both models start so).
+OneDofOutput restingOutput(double x, double v) {
+  OneDofOutput out;
+  out.partPosition = out.shellPosition = x;
+  out.partVelocity = v;
+  return out;
+}
 
 }  // namespace
 
@@ -20,9 +27,7 @@ void ConventionalOneDof::reset(double partPosition, double partVelocity) noexcep
   x_ = partPosition;
   v_ = partVelocity;
   haveLast_ = false;
-  out_ = OneDofOutput{};
-  out_.partPosition = out_.shellPosition = x_;
-  out_.partVelocity = v_;
+  out_ = restingOutput(x_, v_);
 }
 
 const OneDofOutput& ConventionalOneDof::step(double thumb, double index, double fe, double dt) noexcept {
@@ -65,9 +70,7 @@ void ProposedOneDof::reset(double partPosition, double partVelocity) noexcept {
   x_ = partPosition;
   v_ = partVelocity;
   haveLast_ = false;
-  out_ = OneDofOutput{};
-  out_.partPosition = out_.shellPosition = x_;
-  out_.partVelocity = v_;
+  out_ = restingOutput(x_, v_);
 }
 
 const OneDofOutput& ProposedOneDof::step(double thumb, double index, double fe, double dt) noexcept {

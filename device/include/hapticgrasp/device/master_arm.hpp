@@ -176,6 +176,7 @@ class MasterArm {
     KDL::Frame frame;
   };
   void load(ChainWork& w, const std::array<int, kArmJoints>& cols, const ArmVector& theta) noexcept;
+  void loadChains(const ArmVector& theta) noexcept;
 
   std::shared_ptr<const ArmModel> model_;
   ChainWork index_, thumb_, wrist_;
