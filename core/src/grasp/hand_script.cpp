@@ -33,6 +33,7 @@ HandSample HandScript::at(double t) const noexcept {
   s.index = place(mix(a.index, b.index));
   s.thumb = place(mix(a.thumb, b.thumb));
   s.wrist = place(mix(a.wrist, b.wrist));
+  for (std::size_t k = 0; k < a.extra.size(); ++k) s.extra[k] = place(mix(a.extra[k], b.extra[k]));
   s.wristRotation = turn * frame_.rotation * wristRotation_;
   return s;
 }

@@ -15,6 +15,7 @@ namespace hg::device {
 struct DeviceSpec {
   std::string name;
   bool forceOutput = true;           // false: an input-only device (SpaceMouse)
+  int fingertips = 2;                // how many HandSample::fingertip(k) it reads (1..5)
   double maxForce_N = 10;            // per fingertip, and at the wrist
   double maxTorque_Nm = 1;           // at the wrist
   double maxStiffness_N_per_m = 2000;  // stable at the servo rate (CHAI3D-style tables)
@@ -40,6 +41,11 @@ struct DeviceCommand {
   Vec3 f_wrist = Vec3::Zero();
   Vec3 m_wrist = Vec3::Zero();
   double f_grasp = 0;  // between the fingertips (eq 24), for devices with a grip joint
+  Vec3 f_extra[grasp::HandSample::kMaxFingertips - 2] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+
+  // On fingertip k, numbered as HandSample::fingertip(k).
+  const Vec3& fingertipForce(int k) const { return k == 0 ? f_index : k == 1 ? f_thumb : f_extra[k - 2]; }
+  Vec3& fingertipForce(int k) { return k == 0 ? f_index : k == 1 ? f_thumb : f_extra[k - 2]; }
 };
 
 // Implementations: read() and write() run on the servo thread, so they must not allocate,

@@ -3,6 +3,7 @@
 // and tests that need the same hand motion at any servo rate. Positions are linear between
 // keys; a turn of the whole hand about a vertical axis is interpolated as an angle, so a
 // turning hand sweeps arcs, not chords.
+#include <array>
 #include <vector>
 
 #include "hapticgrasp/grasp/hand_sample.hpp"
@@ -17,6 +18,9 @@ struct HandKey {
   Vec3 wrist = Vec3::Zero();
   Vec3 shift = Vec3::Zero();    // then the whole hand moved by this (absolute frame)
   double turn = 0;              // ... after turning it by this (rad) about `up` through `pivot`
+  std::array<Vec3, HandSample::kMaxFingertips - 2> extra{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};  // fingertips 2..4
+
+  Vec3& fingertip(int k) { return k == 0 ? index : k == 1 ? thumb : extra[static_cast<std::size_t>(k - 2)]; }
 };
 
 class HandScript {

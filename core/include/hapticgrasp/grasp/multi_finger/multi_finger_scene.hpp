@@ -1,0 +1,93 @@
+#pragma once
+// The resultant-force method over a whole scene, for the servo thread: 1–5 fingertips of
+// any device touch whichever parts are near; the others cost one box test per fingertip.
+//
+// The paper's simulation holds its part in the air from the start. A CAD scene has no
+// floor and no part-to-part contact, so a part here RESTS where the document put it (a
+// support the fingers cannot push it off) until the fingers can carry it:
+//
+//   resting   the part is fixed; each finger feels its god-object spring (god_object.hpp).
+//   carried   the part is the paper's 6-DOF body (MultiFingerGrasp): shape shell, mass,
+//             inertia, gravity, eq 19. Entered when two or more fingers squeeze it hard
+//             enough for friction to carry its weight: μ · squeeze ≥ m |g|, where the
+//             squeeze is the part of the normal forces that cancel one another,
+//             Σ|f_n,i| − |Σ f_n,i n_i| (two fingers pressing on the top face squeeze
+//             nothing; two opposed ones squeeze 2 f). The analogue of the first paper's
+//             lift condition (eq 29 as corrected in DESIGN.md).
+//   put down  fewer than two fingers touch a carried part: it rests where it is now.
+//
+// The scene-level state mirrors the first paper's for the GUI and the recorder: FREE (no
+// fingertip touches), INDEX CONTACT (the index alone), THUMB CONTACT (one other fingertip
+// alone), GRASP (two or more touch one resting part), MANIPULATE (a part is carried). The
+// same event bits: index and thumb contact/detach, grasp, lift, release.
+//
+// step() never allocates (every part's models are built in the constructor) and never
+// throws; non-finite fingertips or dt leave everything as it was and ask for no force.
+#include <array>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "hapticgrasp/grasp/grasp_state.hpp"
+#include "hapticgrasp/grasp/multi_finger/god_object.hpp"
+#include "hapticgrasp/grasp/multi_finger/multi_finger_grasp.hpp"
+#include "hapticgrasp/grasp/scene.hpp"
+
+namespace hg::grasp::multi_finger {
+
+struct MultiFingerSceneParams {
+  MultiFingerParams grasp;     // the method, its springs, friction and gravity
+  double boxMargin_m = 0.005;  // a part is queried only when a fingertip is this near its box
+};
+
+struct MultiFingerSceneOutput {
+  GraspState state = GraspState::Free;
+  std::uint32_t events = 0;                  // GraspEvent bits raised this tick
+  bool validSample = true;                   // false: non-finite input, no force, nothing moved
+  int fingers = 0;
+  std::array<Vec3, kMaxFingers> force{};     // on each fingertip, world [N]
+  std::array<int, kMaxFingers> part{};       // the part each fingertip touches, or -1
+  int graspedPart = -1;                      // the carried part (MANIPULATE), or the one squeezed (GRASP)
+  int queried = 0;                           // parts whose surfaces were queried this tick
+  std::span<const PartPose> poses;           // every part's pose; valid until the next step()
+};
+
+class MultiFingerScene {
+ public:
+  // Throws std::invalid_argument for an empty scene pointer or a finger count outside 1–5.
+  MultiFingerScene(ScenePtr scene, int fingers, const MultiFingerSceneParams& params = {});
+
+  const MultiFingerSceneOutput& step(std::span<const Vec3> fingertips, double dt) noexcept;
+  // Every part back at its initial pose, resting; no contact.
+  void reset() noexcept;
+
+  int fingers() const noexcept { return fingers_; }
+  GraspState state() const noexcept { return out_.state; }
+  std::span<const PartPose> poses() const noexcept { return poses_; }
+  bool carried(int part) const noexcept { return parts_[static_cast<std::size_t>(part)].carried; }
+
+ private:
+  struct Part {
+    std::unique_ptr<MultiFingerGrasp> method;  // stepped while carried
+    std::vector<GodObject> resting;            // one per finger, on the resting part
+    double weight_N = 0;
+    bool carried = false;
+    int contacts = 0;                          // fingers touching it last tick
+  };
+
+  bool near(std::size_t part, std::span<const Vec3> tips) const noexcept;
+  void stepResting(std::size_t part, std::span<const Vec3> tips) noexcept;
+  void stepCarried(std::size_t part, std::span<const Vec3> tips, double dt) noexcept;
+  void leave(std::size_t part) noexcept;
+  void settleState(std::uint32_t& events) noexcept;
+
+  ScenePtr scene_;
+  int fingers_;
+  MultiFingerSceneParams params_;
+  std::vector<Part> parts_;
+  std::vector<PartPose> poses_;
+  std::array<bool, kMaxFingers> touching_{};
+  MultiFingerSceneOutput out_;
+};
+
+}  // namespace hg::grasp::multi_finger
