@@ -118,7 +118,8 @@ TEST(ServoLoop, RejectsBadConfiguration) {
   c.rate_hz = 20000;
   EXPECT_THROW(ServoLoop(device, benchScene(), {}, c), std::invalid_argument);
   EXPECT_THROW(ServoLoop(nullptr, benchScene()), std::invalid_argument);
-  EXPECT_THROW(ServoLoop(device, nullptr), std::invalid_argument);
+  EXPECT_THROW(ServoLoop(device, grasp::ScenePtr{}), std::invalid_argument);
+  EXPECT_THROW(ServoLoop(device, std::unique_ptr<GraspEngine>{}), std::invalid_argument);
 }
 
 TEST(ServoLoop, TicksAndStopsWithin50msUnderLoad) {

@@ -11,7 +11,6 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "hapticgrasp/grasp/two_finger_grasp.hpp"
 
 namespace hg::servo {
 namespace {
@@ -64,6 +63,7 @@ device::DeviceCommand scaled(const device::DeviceCommand& c, double gain) noexce
   out.f_wrist = gain * c.f_wrist;
   out.m_wrist = gain * c.m_wrist;
   out.f_grasp = gain * c.f_grasp;
+  for (int k = 0; k < grasp::HandSample::kMaxFingertips - 2; ++k) out.f_extra[k] = gain * c.f_extra[k];
   return out;
 }
 
@@ -101,18 +101,35 @@ std::uint32_t SnapshotReader::eventsSinceLastRead(const ServoSnapshot& s, bool* 
   return bits;
 }
 
+namespace {
+std::unique_ptr<GraspEngine> twoFinger(const grasp::ScenePtr& scene, const grasp::GraspParameters& parameters) {
+  if (!scene) throw std::invalid_argument("servo loop: no scene");
+  return std::make_unique<TwoFingerEngine>(scene, parameters);
+}
+}  // namespace
+
 ServoLoop::ServoLoop(std::shared_ptr<device::Device> device, grasp::ScenePtr scene,
                      const grasp::GraspParameters& parameters, const ServoConfig& config)
-    : device_(std::move(device)), scene_(std::move(scene)), config_(config) {
+    : ServoLoop(std::move(device), twoFinger(scene, parameters), config) {}
+
+ServoLoop::ServoLoop(std::shared_ptr<device::Device> device, std::unique_ptr<GraspEngine> engine,
+                     const ServoConfig& config)
+    : device_(std::move(device)), engine_(std::move(engine)), config_(config) {
   if (!device_) throw std::invalid_argument("servo loop: no device");
-  if (!scene_) throw std::invalid_argument("servo loop: no scene");
-  if (scene_->size() > static_cast<std::size_t>(ServoSnapshot::kMaxParts))
+  if (!engine_) throw std::invalid_argument("servo loop: no grasp method");
+  if (engine_->partCount() > static_cast<std::size_t>(ServoSnapshot::kMaxParts))
     throw std::invalid_argument("servo loop: more than " + std::to_string(ServoSnapshot::kMaxParts) + " parts");
+  if (engine_->fingertips() > device_->spec().fingertips)
+    throw std::invalid_argument("servo loop: the " + std::string(engine_->name()) + " method needs " +
+                                std::to_string(engine_->fingertips()) + " fingertips, the device '" +
+                                device_->spec().name + "' reads " + std::to_string(device_->spec().fingertips));
   config_.validate();
-  grasp_ = std::make_unique<grasp::TwoFingerGrasp>(scene_, parameters);
   passivityOn_ = config_.passivityController;
-  snap_.partCount = static_cast<int>(scene_->size());
-  for (int i = 0; i < snap_.partCount; ++i) snap_.poses[i] = scene_->part(static_cast<std::size_t>(i)).initialPose;
+  snap_.method = engine_->name();
+  snap_.fingertips = engine_->fingertips();
+  snap_.partCount = static_cast<int>(engine_->partCount());
+  const auto poses = engine_->poses();
+  for (int i = 0; i < snap_.partCount; ++i) snap_.poses[i] = poses[static_cast<std::size_t>(i)];
 }
 
 ServoLoop::~ServoLoop() { stop(); }
@@ -213,13 +230,13 @@ TimingSummary ServoLoop::timingSummary() const noexcept {
 void ServoLoop::tick(double t, double dt) noexcept {
   const std::int64_t computeStart = nowNs();
   std::uint32_t events = 0;
-  const grasp::GraspState before = grasp_->state();
+  const grasp::GraspState before = engine_->state();
 
   ServoCommand command;
   while (commands_.pop(command)) {
     switch (command.kind) {
       case ServoCommand::Kind::ResetGrasp:
-        grasp_->reset();
+        engine_->reset();
         events |= kGraspReset;
         break;
       case ServoCommand::Kind::SetPassivityController: passivityOn_ = command.on; break;
@@ -255,7 +272,7 @@ void ServoLoop::tick(double t, double dt) noexcept {
     faultStart_s_ = rampOrigin;
     held_ = snap_.sent;  // what the operator feels now; ramps down from here
     gain_ = 1;           // held_ already carries the current gain
-    grasp_->reset();     // FREE, every part at its initial pose
+    engine_->reset();    // FREE, every part at its initial pose
     snap_.graspedPart = -1;
     for (PassivityPort& p : ports_) p.reset();
   }
@@ -283,16 +300,9 @@ void ServoLoop::tick(double t, double dt) noexcept {
       const double stepDt = haveHand_ ? pendingDt_ : 0.0;
       haveHand_ = true;
       pendingDt_ = 0;
-      const grasp::GraspOutput g = grasp_->step(lastHand_, stepDt);
+      const EngineStep g = engine_->step(lastHand_, stepDt);
       events |= g.events;
-      device::DeviceCommand raw;
-      if (g.validSample) {
-        raw.f_index = g.f_index;
-        raw.f_thumb = g.f_thumb;
-        raw.f_wrist = g.f_wrist;
-        raw.m_wrist = g.m_wrist;
-        raw.f_grasp = g.f_grasp;
-      }
+      const device::DeviceCommand& raw = g.command;
       snap_.raw = raw;
       snap_.graspedPart = g.graspedPart;
       // Passivity observer (always) and controller (when on), per port.
@@ -303,10 +313,16 @@ void ServoLoop::tick(double t, double dt) noexcept {
       snap_.alpha_Ns_per_m[kIndexPort] = ports_[kIndexPort].update(lastHand_.index, sdt, raw.f_index, passivityOn_, bMax, c.f_index);
       snap_.alpha_Ns_per_m[kThumbPort] = ports_[kThumbPort].update(lastHand_.thumb, sdt, raw.f_thumb, passivityOn_, bMax, c.f_thumb);
       snap_.alpha_Ns_per_m[kWristPort] = ports_[kWristPort].update(lastHand_.wrist, sdt, raw.f_wrist, passivityOn_, bMax, c.f_wrist);
+      for (int k = 2; k < snap_.fingertips; ++k) {
+        const int port = kExtraPort + k - 2;
+        snap_.alpha_Ns_per_m[port] = ports_[port].update(lastHand_.fingertip(k), sdt, raw.fingertipForce(k),
+                                                         passivityOn_, bMax, c.fingertipForce(k));
+      }
       // Saturation to the device's spec: magnitudes clamped, directions kept.
       bool saturated = false;
       saturated |= clampNorm(c.f_index, spec.maxForce_N);
       saturated |= clampNorm(c.f_thumb, spec.maxForce_N);
+      for (Vec3& f : c.f_extra) saturated |= clampNorm(f, spec.maxForce_N);
       saturated |= clampNorm(c.f_wrist, spec.maxForce_N);
       saturated |= clampNorm(c.m_wrist, spec.maxTorque_Nm);
       if (!std::isfinite(c.f_grasp) || c.f_grasp < 0) c.f_grasp = 0;
@@ -338,7 +354,7 @@ void ServoLoop::tick(double t, double dt) noexcept {
   snap_.tick = snap_.tickMid = snap_.tickEnd = ticks_;
   snap_.time_s = t;
   snap_.dt_s = dt;
-  snap_.state = grasp_->state();
+  snap_.state = engine_->state();
   snap_.freshSample = fresh;
   snap_.passivityController = passivityOn_;
   snap_.hand = lastHand_;
@@ -352,7 +368,7 @@ void ServoLoop::tick(double t, double dt) noexcept {
     for (int b = 0; b < 32; ++b)
       if (events & (1u << b)) ++snap_.eventTotals[b];
   }
-  const auto poses = grasp_->poses();
+  const auto poses = engine_->poses();
   for (int i = 0; i < snap_.partCount; ++i) snap_.poses[i] = poses[static_cast<std::size_t>(i)];
   if (config_.allocationCounter) snap_.allocations = config_.allocationCounter() - allocationBase_;
   if ((ticks_ & 63) == 1) snap_.timing = timingSummary();  // every 64 ticks: the histograms cost a scan

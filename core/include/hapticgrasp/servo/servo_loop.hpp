@@ -33,14 +33,11 @@
 #include "hapticgrasp/grasp/hand_sample.hpp"
 #include "hapticgrasp/grasp/part_pose.hpp"
 #include "hapticgrasp/grasp/scene.hpp"
+#include "hapticgrasp/servo/grasp_engine.hpp"
 #include "hapticgrasp/servo/passivity.hpp"
 #include "hapticgrasp/servo/seqlock.hpp"
 #include "hapticgrasp/servo/spsc_ring.hpp"
 #include "hapticgrasp/servo/timing_stats.hpp"
-
-namespace hg::grasp {
-class TwoFingerGrasp;
-}
 
 namespace hg::servo {
 
@@ -94,14 +91,17 @@ struct EventRecord {
   grasp::GraspState from = grasp::GraspState::Free, to = grasp::GraspState::Free;
 };
 
-// Passivity ports: index fingertip, thumb fingertip, wrist.
-enum Port : int { kIndexPort = 0, kThumbPort = 1, kWristPort = 2, kPortCount = 3 };
+// Passivity ports: index fingertip, thumb fingertip, wrist, then fingertips 2..4 of hands
+// that have them (HandSample::fingertip(k) is port kExtraPort + k - 2).
+enum Port : int { kIndexPort = 0, kThumbPort = 1, kWristPort = 2, kExtraPort = 3, kPortCount = 6 };
 
 struct ServoSnapshot {
   static constexpr int kMaxParts = 64;
   static constexpr int kEventLog = 64;
 
   std::uint64_t tick = 0;        // 1 for the first tick
+  const char* method = "";       // GraspEngine::name()
+  int fingertips = 2;            // hand.fingertip(0 .. fingertips-1) are in use
   double time_s = 0;             // loop time (CLOCK_MONOTONIC since start) of this tick
   double dt_s = 0;               // measured since the previous tick
   grasp::GraspState state = grasp::GraspState::Free;
@@ -144,10 +144,14 @@ class SnapshotReader {
 
 class ServoLoop {
  public:
-  // Throws std::invalid_argument for a null device or scene, a scene with more than
-  // ServoSnapshot::kMaxParts parts, or a bad config.
+  // The first paper's two-finger method over `scene`. Throws std::invalid_argument for a
+  // null device or scene, a scene with more than ServoSnapshot::kMaxParts parts, or a bad
+  // config.
   ServoLoop(std::shared_ptr<device::Device> device, grasp::ScenePtr scene,
             const grasp::GraspParameters& parameters = {}, const ServoConfig& config = {});
+  // Any method; also throws when the device reads fewer fingertips than the method needs.
+  ServoLoop(std::shared_ptr<device::Device> device, std::unique_ptr<GraspEngine> engine,
+            const ServoConfig& config = {});
   ~ServoLoop();  // stop()s
   ServoLoop(const ServoLoop&) = delete;
   ServoLoop& operator=(const ServoLoop&) = delete;
@@ -182,8 +186,7 @@ class ServoLoop {
   void publish() noexcept;
 
   std::shared_ptr<device::Device> device_;
-  grasp::ScenePtr scene_;
-  std::unique_ptr<grasp::TwoFingerGrasp> grasp_;
+  std::unique_ptr<GraspEngine> engine_;
   ServoConfig config_;
   SpscRing<ServoCommand, 64> commands_;
   SeqLock<ServoSnapshot> snapshot_;
