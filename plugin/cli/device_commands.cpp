@@ -21,29 +21,23 @@ int listDevices() {
   return 0;
 }
 
-int benchServo(double rate_hz, double seconds, const std::string& part, const std::string& device,
-               const std::string& backend, bool json) {
-  servo::ServoBenchOptions options;
-  options.rate_hz = rate_hz;
-  options.seconds = seconds;
+int benchServo(servo::ServoBenchOptions options, bool json) {
   options.realtime = true;
-  options.part = part;
-  options.device = device;
-  options.backend = backend;
   options.allocationCounter = &servo::threadAllocations;
   const servo::ServoBenchResult r = servo::runServoBench(options);
   if (json) {
     std::cout << servo::toJson(r) << std::endl;
     return 0;
   }
-  std::printf("servo loop: part %s, device %s, back end %s\n", r.part.c_str(), r.device.c_str(), r.backend.c_str());
+  std::printf("servo loop: part %s, device %s, back end %s, %s method with %d fingertips\n", r.part.c_str(),
+              r.device.c_str(), r.backend.c_str(), r.method.c_str(), r.fingers);
   std::printf("servo loop: target %.0f Hz, achieved %.1f Hz over %.1f s; %s, %s\n", r.target_hz, r.achieved_hz,
               r.seconds, r.scheduler.c_str(), r.memory_lock.c_str());
   std::printf("  period error us  p50 %.2f  p99 %.2f  max %.2f\n", r.period_err.p50_us, r.period_err.p99_us, r.period_err.max_us);
   std::printf("  compute us       p50 %.2f  p99 %.2f  max %.2f   (the loop's own work)\n", r.compute.p50_us,
               r.compute.p99_us, r.compute.max_us);
-  std::printf("  device I/O us    p50 %.2f  p99 %.2f  max %.2f   (read + write; the simulated arm's physics)\n",
-              r.deviceIo.p50_us, r.deviceIo.p99_us, r.deviceIo.max_us);
+  std::printf("  device I/O us    p50 %.2f  p99 %.2f  max %.2f   (read + write%s)\n",
+              r.deviceIo.p50_us, r.deviceIo.p99_us, r.deviceIo.max_us, r.device == "arm" ? "; the simulated arm's physics" : "");
   std::printf("  overruns %llu, allocations in the loop %ld, grasps %llu, lifts %llu, watchdog trips %llu\n",
               static_cast<unsigned long long>(r.overruns), r.allocations_in_loop,
               static_cast<unsigned long long>(r.grasps), static_cast<unsigned long long>(r.lifts),

@@ -141,18 +141,26 @@ int main(int argc, char** argv) {
 
   CLI::App* servoBench =
       bench->add_subcommand("servo", "The real servo thread: the simulated arm (or a scripted hand) grasps and lifts a part");
-  double servoRate = 2000.0, servoSeconds = 2.0;
-  std::string servoPart = "cylinder", servoDevice = "arm", servoBackend = "auto";
-  servoBench->add_option("--rate", servoRate, "Servo rate, Hz (50-10000)")->capture_default_str();
-  servoBench->add_option("--seconds", servoSeconds, "How long to run")->capture_default_str();
-  servoBench->add_option("--part", servoPart, "Sample part (cylinder, block, loft, plate) or a .brep/.step file (mm)")
+  servo::ServoBenchOptions servoOptions;
+  servoBench->add_option("--rate", servoOptions.rate_hz, "Servo rate, Hz (50-10000)")->capture_default_str();
+  servoBench->add_option("--seconds", servoOptions.seconds, "How long to run")->capture_default_str();
+  servoBench->add_option("--part", servoOptions.part, "Sample part (cylinder, block, loft, plate) or a .brep/.step file (mm)")
       ->capture_default_str();
-  servoBench->add_option("--device", servoDevice, "Who holds the part: the simulated master arm or a scripted hand")
+  servoBench->add_option("--device", servoOptions.device, "Who holds the part: the simulated master arm or a scripted hand")
       ->capture_default_str()
       ->check(CLI::IsMember({"arm", "scripted"}));
-  servoBench->add_option("--backend", servoBackend, "Penetration back end (auto: analytic for primitives, exact otherwise)")
+  servoBench->add_option("--backend", servoOptions.backend, "Penetration back end (auto: analytic for primitives, exact otherwise)")
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "exact", "analytic", "mesh"}));
+  servoBench->add_option("--method", servoOptions.method,
+                         "Grasp method: the first paper's two-finger state machine or the resultant-force paper's "
+                         "multi-finger method")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"two-finger", "multi-finger"}));
+  servoBench->add_option("--fingers", servoOptions.fingers,
+                         "Fingertips for the multi-finger method (the arm has 2; the scripted hand 1-5)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 5));
   servoBench->add_flag("--json", json, "Print JSON");
 
   CLI::App* devices = app.add_subcommand("devices", "List HID devices and which back end or layout matches each");
@@ -183,7 +191,7 @@ int main(int argc, char** argv) {
     if (info->parsed()) return partInfo(partName);
     if (graspCylinderCmd->parsed()) return graspCylinder(rate_hz, json);
     if (shakeCmd->parsed()) return shake(json, shakePlot);
-    if (servoBench->parsed()) return cli::benchServo(servoRate, servoSeconds, servoPart, servoDevice, servoBackend, json);
+    if (servoBench->parsed()) return cli::benchServo(servoOptions, json);
     if (devices->parsed()) return cli::listDevices();
   } catch (const std::exception& e) {  // GeometryError, HidError, invalid_argument: one line
     std::cerr << "hapticgrasp: " << e.what() << std::endl;

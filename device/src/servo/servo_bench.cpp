@@ -14,6 +14,7 @@
 #include "hapticgrasp/device/simulated_operator.hpp"
 #include "hapticgrasp/geometry/sample_parts.hpp"
 #include "hapticgrasp/grasp/hand_script.hpp"
+#include "hapticgrasp/grasp/multi_finger/multi_finger_grasp.hpp"
 #include "hapticgrasp/servo/scripted_hand_device.hpp"
 #include "servo/advancing_device.hpp"
 
@@ -190,8 +191,35 @@ BenchSetup armSetup(const geometry::PartModelPtr& model, const geometry::MassSpe
   return setup;
 }
 
+// The multi-finger hand's cycle, with benchScript()'s timing: the thumb (fingertip 1)
+// against the part's -y side, the others side by side along x against its +y side.
+std::vector<grasp::HandKey> multiFingerKeys(const GraspGeometry& g, const grasp::ScenePart& part, int fingers) {
+  const grasp::multi_finger::MultiFingerParams k;
+  const double weight = part.mass.mass_kg * k.gravity.norm();
+  const double in = -1.5 * weight / (2 * k.friction * k.stiffness);  // the squeeze carries 1.5 times the weight
+  const double sag = weight / k.dynamicsStiffness;
+  const auto key = [&](double t, double depth, double z) {
+    grasp::HandKey h;
+    h.t = t;
+    h.wrist = Vec3(0, 0, kWristHeight);
+    h.shift = Vec3(0, 0, z);
+    for (int f = 0, side = 0; f < fingers; ++f) {
+      if (f == 1) {
+        h.fingertip(1) = Vec3(0, -g.minus - depth, 0);
+        continue;
+      }
+      const double x = 0.015 * (side++ - 0.5 * (fingers - (fingers > 1 ? 2 : 1)));
+      h.fingertip(f) = Vec3(x, g.plus + depth, 0);
+    }
+    return h;
+  };
+  return {key(0.0, kClearance, 0), key(0.1, kClearance, 0), key(0.5, in, 0), key(0.6, in, 0),
+          key(1.0, in, kLift), key(1.2, in, kLift), key(1.5, in, sag), key(1.7, kClearance, sag),
+          key(1.8, kClearance, 0), key(kCycle_s, kClearance, 0)};
+}
+
 BenchSetup scriptedSetup(const geometry::PartModelPtr& model, const geometry::MassSpec& mass, geometry::Backend backend,
-                         bool paperCylinder) {
+                         bool paperCylinder, int multiFingers) {
   grasp::HandScript script = benchScript();
   grasp::ScenePtr scene;
   if (paperCylinder) {
@@ -206,26 +234,30 @@ BenchSetup scriptedSetup(const geometry::PartModelPtr& model, const geometry::Ma
     const grasp::GraspParameters k;
     const double sag = part.mass.mass_kg * k.gravity.norm() / k.K_ox;
     std::vector<grasp::HandKey> keys;
+    if (multiFingers > 0) keys = multiFingerKeys(g, part, multiFingers);
     const auto key = [&](double t, double index, double thumb, double z) {
       keys.push_back({t, {0, g.plus + index, 0}, {0, -g.minus - thumb, 0}, {0, 0, kWristHeight}, Vec3(0, 0, z), 0});
     };
     const double open = kClearance, in = -kPenetration, squeezed = in - kSqueeze;
-    key(0.0, open, open, 0);
-    key(0.1, open, open, 0);
-    key(0.3, in, open, 0);
-    key(0.5, in, in, 0);
-    key(0.6, squeezed, squeezed, 0);
-    key(1.0, squeezed, squeezed, kLift);
-    key(1.2, squeezed, squeezed, kLift);
-    key(1.5, squeezed, squeezed, sag);
-    key(1.7, open, open, sag);
-    key(1.8, open, open, 0);
-    key(kCycle_s, open, open, 0);
+    if (multiFingers == 0) {
+      key(0.0, open, open, 0);
+      key(0.1, open, open, 0);
+      key(0.3, in, open, 0);
+      key(0.5, in, in, 0);
+      key(0.6, squeezed, squeezed, 0);
+      key(1.0, squeezed, squeezed, kLift);
+      key(1.2, squeezed, squeezed, kLift);
+      key(1.5, squeezed, squeezed, sag);
+      key(1.7, open, open, sag);
+      key(1.8, open, open, 0);
+      key(kCycle_s, open, open, 0);
+    }
     script = grasp::HandScript(std::move(keys), grasp::PartPose{Mat3::Identity(), G});
   }
   device::DeviceSpec spec = ScriptedHandDevice::defaultSpec();
   spec.maxForce_N = 40;
   spec.maxTorque_Nm = 5;
+  spec.fingertips = std::max(2, multiFingers);
   auto device = std::make_shared<ScriptedHandDevice>(std::move(script), spec, /*loop=*/true);
   BenchSetup setup;
   setup.device = device;
@@ -255,6 +287,12 @@ ServoBenchResult runServoBench(const ServoBenchOptions& options) {
   if (!(seconds > 0 && seconds <= 3600)) throw std::invalid_argument("bench seconds must be in (0, 3600]");
   if (options.device != "arm" && options.device != "scripted")
     throw std::invalid_argument("bench device must be 'arm' or 'scripted', not '" + options.device + "'");
+  const bool multiFinger = options.method == "multi-finger";
+  if (!multiFinger && options.method != "two-finger")
+    throw std::invalid_argument("bench method must be 'two-finger' or 'multi-finger', not '" + options.method + "'");
+  const int fingers = multiFinger ? options.fingers : 2;
+  if (fingers < 1 || fingers > grasp::HandSample::kMaxFingertips)
+    throw std::invalid_argument("bench fingers must be 1 to 5");
   ServoConfig config;
   config.rate_hz = rate_hz;
   config.realtime = options.realtime;
@@ -263,13 +301,19 @@ ServoBenchResult runServoBench(const ServoBenchOptions& options) {
 
   const geometry::Backend backend = geometry::parseBackend(options.backend);
   const geometry::SamplePart sample = geometry::findPart(options.part);
-  const bool paperCylinder = options.device == "scripted" && options.part == "cylinder" && backend == geometry::Backend::Auto;
+  const bool paperCylinder =
+      !multiFinger && options.device == "scripted" && options.part == "cylinder" && backend == geometry::Backend::Auto;
   const geometry::PartModelPtr model =
       paperCylinder ? geometry::PartModelPtr{} : geometry::PartModel::fromFile(sample.file, sample.unit);
   BenchSetup setup = options.device == "arm" ? armSetup(model, sample.mass, backend)
-                                             : scriptedSetup(model, sample.mass, backend, paperCylinder);
-
-  ServoLoop loop(setup.device, setup.scene, {}, config);
+                                             : scriptedSetup(model, sample.mass, backend, paperCylinder,
+                                                             multiFinger ? fingers : 0);
+  std::unique_ptr<GraspEngine> engine;
+  if (multiFinger)
+    engine = std::make_unique<MultiFingerEngine>(setup.scene, fingers);
+  else
+    engine = std::make_unique<TwoFingerEngine>(setup.scene);
+  ServoLoop loop(setup.device, std::move(engine), config);
   loop.start();
   const auto start = std::chrono::steady_clock::now();
   const auto end = start + std::chrono::duration<double>(seconds);
@@ -294,6 +338,8 @@ ServoBenchResult runServoBench(const ServoBenchOptions& options) {
   r.part = sample.name;
   r.device = options.device;
   r.backend = std::string(setup.scene->part(0).penetration->name());
+  r.method = options.method;
+  r.fingers = fingers;
   r.target_hz = rate_hz;
   r.achieved_hz = timing.achieved_hz;
   r.seconds = seconds;
@@ -331,7 +377,9 @@ std::string toJson(const ServoBenchResult& r, int indent) {
                             {"allocations_in_loop", r.allocations_in_loop},
                             {"grasps", r.grasps},
                             {"lifts", r.lifts},
-                            {"watchdog_trips", r.watchdog_trips}};
+                            {"watchdog_trips", r.watchdog_trips},
+                            {"method", r.method},
+                            {"fingers", r.fingers}};
   return j.dump(indent);
 }
 

@@ -16,6 +16,13 @@
 //    cylinder, the paper's cylinder (0.1 m x 0.4 m, 2 kg) lying along y (benchScene(),
 //    benchScript()); other parts are grasped across their y sides like the arm does.
 //
+// method "multi-finger" runs the resultant-force paper's method (MultiFingerEngine) instead
+// of the two-finger state machine, with `fingers` fingertips: the arm has two; the scripted
+// hand puts the thumb (fingertip 1) on the part's -y side and the others side by side
+// along x on its +y side, 15 mm apart, and closes them far enough in for friction to carry
+// the part's weight (1.5 m g / (2 μ k) each); the paper cylinder is then grasped across y
+// like any other part.
+//
 // allocations_in_loop: the heap allocations made BY THE SERVO THREAD from its first tick
 // to its last, counted by an AllocationCounter -- a malloc/calloc/realloc interposer with
 // a thread_local count, linked into the executable only (include
@@ -35,6 +42,8 @@ struct ServoBenchOptions {
   std::string part = "cylinder";  // a sample part (cylinder, block, loft, plate) or a .brep/.step file (mm)
   std::string device = "arm";     // "arm" | "scripted"
   std::string backend = "auto";   // penetration back end: auto (analytic for primitives, exact otherwise), exact, analytic, mesh
+  std::string method = "two-finger";  // "two-finger" | "multi-finger"
+  int fingers = 2;                // fingertips of the multi-finger method (1-5; the arm has 2)
   AllocationCounter allocationCounter = nullptr;
 };
 
@@ -42,6 +51,8 @@ struct ServoBenchResult {
   std::string part;              // the part's name
   std::string device;            // "arm" | "scripted"
   std::string backend;           // the penetration back end used ("exact", "analytic", ...)
+  std::string method;            // "two-finger" | "multi-finger"
+  int fingers = 2;
   double target_hz = 0;
   double achieved_hz = 0;
   double seconds = 0;
@@ -58,8 +69,8 @@ struct ServoBenchResult {
   std::uint64_t watchdog_trips = 0;
 };
 
-// Throws std::invalid_argument for a rate outside [50, 10000] Hz, seconds not in (0, 3600]
-// or an unknown device; GeometryError for an unknown part or back end.
+// Throws std::invalid_argument for a rate outside [50, 10000] Hz, seconds not in (0, 3600],
+// an unknown device or method, or more fingers than the device has; GeometryError for an unknown part or back end.
 ServoBenchResult runServoBench(const ServoBenchOptions& options);
 // The original benchmark: device "scripted", the paper's cylinder.
 ServoBenchResult runServoBench(double rate_hz, double seconds, bool realtime = true,
@@ -67,7 +78,7 @@ ServoBenchResult runServoBench(double rate_hz, double seconds, bool realtime = t
 
 // {"part", "device", "backend", "target_hz", "achieved_hz", "seconds", "scheduler", "memory_lock",
 //  "period_err_us": {"p50","p99","max"}, "compute_us": {"p50","p99","max"}, "ticks",
-//  "overruns", "allocations_in_loop", "grasps", "lifts", "watchdog_trips"}
+//  "overruns", "allocations_in_loop", "grasps", "lifts", "watchdog_trips", "method", "fingers"}
 std::string toJson(const ServoBenchResult& result, int indent = 2);
 
 // The script and scene the benchmark uses (a 2 s cycle: approach, grasp, lift, put down,
