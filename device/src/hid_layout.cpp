@@ -123,8 +123,20 @@ int numbered(std::string_view s, std::string_view prefix, int limit) {
   return n < limit ? n : -1;
 }
 
+// "fingertip.3.x" with prefix "fingertip." -> {3, 0}; {-1, -1} when it is not one.
+std::pair<int, int> extraFingertip(std::string_view name, std::string_view prefix) {
+  if (name.substr(0, prefix.size()) != prefix || name.size() != prefix.size() + 3 || name[prefix.size() + 1] != '.')
+    return {-1, -1};
+  const int n = name[prefix.size()] - '0';
+  const int a = axis(name.substr(prefix.size() + 2));
+  if (n < 2 || n >= grasp::HandSample::kMaxFingertips || a < 0) return {-1, -1};
+  return {n, a};
+}
+
 bool inputTarget(std::string_view name, HidInputField& f) {
   using T = HidInputField::Target;
+  if (auto [n, a] = extraFingertip(name, "fingertip."); n >= 0)
+    return f.target = T::Fingertip, f.fingertip = n, f.component = a, true;
   const auto dot = name.find('.');
   const std::string_view head = name.substr(0, dot);
   const std::string_view tail = dot == std::string_view::npos ? std::string_view{} : name.substr(dot + 1);
@@ -146,6 +158,8 @@ bool inputTarget(std::string_view name, HidInputField& f) {
 
 bool outputSource(std::string_view name, HidOutputField& f) {
   using S = HidOutputField::Source;
+  if (auto [n, a] = extraFingertip(name, "f_fingertip."); n >= 0)
+    return f.source = S::FFingertip, f.fingertip = n, f.component = a, true;
   if (name == "f_grasp") return f.source = S::FGrasp, true;
   const auto dot = name.find('.');
   if (dot == std::string_view::npos) return false;
@@ -229,7 +243,7 @@ HidLayout parse(const json& root, const Ctx& c) {
     f.name = n.get<std::string>();
     if (!inputTarget(f.name, f))
       c.fail(where + ".name", "unknown input '" + f.name +
-                                  "' (index.x|y|z, thumb.x|y|z, wrist.x|y|z, wrist.roll|pitch|yaw, grip, buttons, "
+                                  "' (index.x|y|z, thumb.x|y|z, fingertip.2-4.x|y|z, wrist.x|y|z, wrist.roll|pitch|yaw, grip, buttons, "
                                   "button.N, joint.N)");
     if (!seen.insert(f.name).second) c.fail(where + ".name", "'" + f.name + "' is given twice");
     placeField(c, j, where, f, L.report_size, "report_size", L.input_report_id != 0, L.input_report_id);
@@ -259,7 +273,7 @@ HidLayout parse(const json& root, const Ctx& c) {
       if (!n.is_string()) c.fail(where + ".name", "expected a string, got " + show(n));
       f.name = n.get<std::string>();
       if (!outputSource(f.name, f))
-        c.fail(where + ".name", "unknown output '" + f.name + "' (f_index.x|y|z, f_thumb.x|y|z, f_wrist.x|y|z, m_wrist.x|y|z, f_grasp)");
+        c.fail(where + ".name", "unknown output '" + f.name + "' (f_index.x|y|z, f_thumb.x|y|z, f_fingertip.2-4.x|y|z, f_wrist.x|y|z, m_wrist.x|y|z, f_grasp)");
       if (!outSeen.insert(f.name).second) c.fail(where + ".name", "'" + f.name + "' is given twice");
       placeField(c, j, where, f, out.size, "force_output.size", true, out.report_id);
       if (f.scale == 0) c.fail(where + ".scale", "must be non-zero (raw = (value - bias) / scale)");
@@ -307,16 +321,27 @@ HidLayout parse(const json& root, const Ctx& c) {
     }
     if (auto v = it->find("grip_centre_wrist"); v != it->end()) L.gripCentre_wrist = vec3(c, *v, "hand.grip_centre_wrist");
   }
-  for (const auto& f : L.fields)
+  bool extra[grasp::HandSample::kMaxFingertips] = {};
+  for (const auto& f : L.fields) {
     L.directFingertips |= f.target == HidInputField::Target::Index || f.target == HidInputField::Target::Thumb;
+    if (f.target == HidInputField::Target::Fingertip) extra[f.fingertip] = true;
+  }
+  for (int n = 2; n < grasp::HandSample::kMaxFingertips; ++n) {
+    if (!extra[n]) continue;
+    if (!L.directFingertips) c.fail("fields", "fingertip." + std::to_string(n) + ".* needs index.* and thumb.* fields");
+    if (n > 2 && !extra[n - 1])
+      c.fail("fields", "fingertip." + std::to_string(n) + ".* given without fingertip." + std::to_string(n - 1) + ".*");
+    L.spec.fingertips = n + 1;
+  }
   return L;
 }
 
-Vec3* commandVector(DeviceCommand& c, HidOutputField::Source s) noexcept {
+Vec3* commandVector(DeviceCommand& c, const HidOutputField& f) noexcept {
   using S = HidOutputField::Source;
-  switch (s) {
+  switch (f.source) {
     case S::FIndex: return &c.f_index;
     case S::FThumb: return &c.f_thumb;
+    case S::FFingertip: return &c.fingertipForce(f.fingertip);
     case S::FWrist: return &c.f_wrist;
     case S::MWrist: return &c.m_wrist;
     default: return nullptr;
@@ -454,6 +479,7 @@ bool decodeInputReport(const HidLayout& L, const std::uint8_t* data, std::size_t
   if (!data || size != static_cast<std::size_t>(L.report_size)) return false;
   if (L.input_report_id != 0 && data[0] != L.input_report_id) return false;
   Vec3 index = Vec3::Zero(), thumb = Vec3::Zero(), wrist = Vec3::Zero(), rpy = Vec3::Zero();
+  Vec3 extra[grasp::HandSample::kMaxFingertips] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
   double grip = L.gripWidth_m;
   std::uint32_t buttons = 0;
   double joints[DeviceSample::kMaxJoints] = {};
@@ -464,6 +490,7 @@ bool decodeInputReport(const HidLayout& L, const std::uint8_t* data, std::size_t
     switch (f.target) {
       case T::Index: index[f.component] = v; break;
       case T::Thumb: thumb[f.component] = v; break;
+      case T::Fingertip: extra[f.fingertip][f.component] = v; break;
       case T::Wrist: wrist[f.component] = v; break;
       case T::WristAngle: rpy[f.component] = v; break;
       case T::Grip: grip = v; break;
@@ -488,6 +515,7 @@ bool decodeInputReport(const HidLayout& L, const std::uint8_t* data, std::size_t
   }
   sample.hand.index = index;
   sample.hand.thumb = thumb;
+  for (int k = 2; k < grasp::HandSample::kMaxFingertips; ++k) sample.hand.fingertip(k) = extra[k];
   sample.hand.wrist = wrist;
   sample.hand.wristRotation = R;
   sample.buttons = buttons;
@@ -503,6 +531,8 @@ DeviceCommand saturateCommand(const DeviceCommand& command, const DeviceSpec& sp
   out.f_wrist = limitNorm(command.f_wrist, spec.maxForce_N);
   out.m_wrist = limitNorm(command.m_wrist, spec.maxTorque_Nm);
   out.f_grasp = std::isfinite(command.f_grasp) ? std::clamp(command.f_grasp, -spec.maxForce_N, spec.maxForce_N) : 0.0;
+  for (int k = 2; k < grasp::HandSample::kMaxFingertips; ++k)
+    out.fingertipForce(k) = limitNorm(command.fingertipForce(k), spec.maxForce_N);
   return out;
 }
 
@@ -516,7 +546,7 @@ std::size_t encodeForceReport(const HidLayout& L, const DeviceCommand& command, 
   out[0] = static_cast<std::uint8_t>(fo.report_id);
   DeviceCommand c = command;
   for (const auto& f : fo.fields) {
-    const Vec3* v = commandVector(c, f.source);
+    const Vec3* v = commandVector(c, f);
     const double value = v ? (*v)[f.component] : c.f_grasp;
     encodeHidValue((value - f.bias) / f.scale, out + f.offset, f.type, f.endian);
   }
@@ -528,7 +558,7 @@ DeviceCommand decodeForceReport(const HidLayout& L, const std::uint8_t* data, st
   if (!L.force_output || !data || size < static_cast<std::size_t>(L.force_output->size)) return c;
   for (const auto& f : L.force_output->fields) {
     const double value = decodeHidValue(data + f.offset, f.type, f.endian) * f.scale + f.bias;
-    if (Vec3* v = commandVector(c, f.source)) (*v)[f.component] = value;
+    if (Vec3* v = commandVector(c, f)) (*v)[f.component] = value;
     else c.f_grasp = value;
   }
   return c;

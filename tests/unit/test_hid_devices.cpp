@@ -580,6 +580,54 @@ TEST(GenericHidDevice, ReadsWritesAndWatchdog) {
   EXPECT_EQ(dev.stats().writeErrors, 1u);
 }
 
+// A glove with three fingertips: each one read from the report and each one's force
+// written back; the spec says it reads three (the multi-finger method's servo loop checks).
+TEST(GenericHidDevice, ThreeFingertipGloveReadsAndWritesEveryFingertip) {
+  FakeHidTransport fake;
+  fake.addDevice(info("/dev/hidraw4", 0x1209, 0x0003, "glove"));
+  const HidLayout glove = loadHidLayout(resource("glove_3_fingertips.json"));
+  EXPECT_EQ(glove.spec.fingertips, 3);
+  GenericHidDevice dev(fake.open("/dev/hidraw4"), glove);
+  Bytes r{1};
+  for (int v : {1000, 0, 0, -1000, 0, 0, 0, 2000, -500}) put16(r, v);
+  r.push_back(0);
+  fake.queueReport("/dev/hidraw4", r);
+  DeviceSample s;
+  ASSERT_TRUE(dev.readAt(s, 1.0));
+  EXPECT_TRUE(s.hand.index.isApprox(Vec3(0.01, 0, 0.1)));
+  EXPECT_TRUE(s.hand.thumb.isApprox(Vec3(-0.01, 0, 0.1)));
+  EXPECT_TRUE(s.hand.fingertip(2).isApprox(Vec3(0, 0.02, 0.095)));
+
+  DeviceCommand cmd;
+  cmd.f_index = Vec3(1, 0, 0);
+  cmd.fingertipForce(2) = Vec3(0, -2, 9);  // over the glove's 3 N: saturated, direction kept
+  dev.writeAt(cmd, 1.01);
+  ASSERT_EQ(fake.writes("/dev/hidraw4").size(), 1u);
+  const DeviceCommand back = decodeForceReport(glove, fake.writes("/dev/hidraw4")[0].data(), 19);
+  EXPECT_TRUE(back.f_index.isApprox(Vec3(1, 0, 0), 1e-3));
+  EXPECT_NEAR(back.fingertipForce(2).norm(), 3.0, 2e-3);
+  EXPECT_NEAR(back.fingertipForce(2).normalized().dot(Vec3(0, -2, 9).normalized()), 1.0, 1e-6);
+
+  // Further fingertips need the index and the thumb, and no gaps.
+  const auto fails = [](const std::string& text, const std::string& message) {
+    try {
+      parseHidLayout(text);
+      ADD_FAILURE() << "parsed: " << message;
+    } catch (const HidLayoutError& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+  };
+  fails(R"({"name": "x", "path": "/dev/hidraw1", "report_size": 7, "fields": [
+           {"name": "fingertip.2.x", "offset": 1, "type": "int16"}, {"name": "wrist.x", "offset": 3, "type": "int16"}]})",
+        "needs index.* and thumb.*");
+  fails(R"({"name": "x", "path": "/dev/hidraw1", "report_size": 7, "fields": [
+           {"name": "index.x", "offset": 1, "type": "int16"}, {"name": "fingertip.3.x", "offset": 3, "type": "int16"}]})",
+        "without fingertip.2");
+  fails(R"({"name": "x", "path": "/dev/hidraw1", "report_size": 7, "fields": [
+           {"name": "fingertip.5.x", "offset": 1, "type": "int16"}]})",
+        "unknown input 'fingertip.5.x'");
+}
+
 // ---- discovery ---------------------------------------------------------------------------
 
 TEST(DeviceDiscovery, SpaceMouseUnknownAndLayoutMatches) {

@@ -16,12 +16,14 @@
 //                "max_damping_Ns_per_m": 5, "workspace": {"min": [x,y,z], "max": [x,y,z]}},
 //     "hand": {"grip_width_m": 0.06, "grip_centre_wrist": [0.08, 0, 0]} }
 //
-// Input names: index.x|y|z, thumb.x|y|z, wrist.x|y|z, wrist.roll|pitch|yaw (rad; wrist
+// Input names: index.x|y|z, thumb.x|y|z, fingertip.N.x|y|z (N = 2..4: the multi-finger
+// method's further fingertips, HandSample::fingertip(N); they need index.* and thumb.* and
+// no gaps; the device's spec then reads N + 1 fingertips), wrist.x|y|z, wrist.roll|pitch|yaw (rad; wrist
 // rotation = Rx(roll) Ry(pitch) Rz(yaw)), grip (index-thumb distance, m), buttons (a bit
 // mask), button.N (bit N set when non-zero), joint.N (N < 16). value = raw * scale + bias.
 // Without index.* and thumb.* fields, the fingertips sit at +/- grip/2 along the wrist's y
 // axis around hand.grip_centre_wrist (as the SpaceMouse hand does).
-// Output names: f_index.x|y|z, f_thumb.x|y|z, f_wrist.x|y|z, m_wrist.x|y|z, f_grasp;
+// Output names: f_index.x|y|z, f_thumb.x|y|z, f_fingertip.N.x|y|z, f_wrist.x|y|z, m_wrist.x|y|z, f_grasp;
 // raw = (value - bias) / scale, rounded and saturated to the type.
 // Offsets count from byte 0 of the report as hidapi gives it, so with numbered reports
 // byte 0 is the report ID and no field may sit there.
@@ -46,10 +48,11 @@ int hidFieldSize(HidFieldType type) noexcept;
 const char* hidFieldTypeName(HidFieldType type) noexcept;
 
 struct HidInputField {
-  enum class Target { Index, Thumb, Wrist, WristAngle, Grip, Buttons, Button, Joint };
+  enum class Target { Index, Thumb, Fingertip, Wrist, WristAngle, Grip, Buttons, Button, Joint };
   std::string name;
   Target target = Target::Wrist;
   int component = 0;  // x y z / roll pitch yaw (0..2), button bit, joint number
+  int fingertip = 0;  // Target::Fingertip: which one (2..4)
   int offset = 0;
   HidFieldType type = HidFieldType::Int16;
   HidEndian endian = HidEndian::Little;
@@ -57,10 +60,11 @@ struct HidInputField {
 };
 
 struct HidOutputField {
-  enum class Source { FIndex, FThumb, FWrist, MWrist, FGrasp };
+  enum class Source { FIndex, FThumb, FFingertip, FWrist, MWrist, FGrasp };
   std::string name;
   Source source = Source::FWrist;
   int component = 0;
+  int fingertip = 0;  // Source::FFingertip: which one (2..4)
   int offset = 1;
   HidFieldType type = HidFieldType::Int16;
   HidEndian endian = HidEndian::Little;
