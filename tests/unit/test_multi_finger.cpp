@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <random>
 #include <vector>
 #include <nlohmann/json.hpp>
 
@@ -576,4 +577,117 @@ TEST(MultiFingerGrasp, ConventionalStepIsAllocationFree) {
   for (int i = 0; i < 500; ++i) grasp.step(tips, hg::Vec3::Zero(), hg::Vec3::Zero(), 1e-3);
   EXPECT_EQ(hg::test::allocations(), before);
   EXPECT_EQ(grasp.output().contacts, 3);
+}
+
+namespace {
+
+// The five-finger layout that once ran away (finger forces ~2000 N): thumb and index on
+// the −x and +x faces, a middle finger on +y and a ring finger on +z, none opposed on its
+// axis. Units of the block's half size; the first `count` fingers are used.
+const std::vector<hg::Vec3> kRunawayHand{
+    {0.95, 0, 0}, {-0.95, 0.3, 0}, {-0.95, -0.3, 0}, {0, 0.95, 0.2}, {0.3, 0, 0.95}};
+
+struct ShakeRun {
+  double largestForce = 0;     // over all fingers and ticks [N]
+  double largestPosition = 0;  // |body position| [m]
+  bool finite = true;
+};
+
+// The hand shakes the 60 mm block 0.3 half · sin(9 t) along x, fingertips 1.5 mm inside.
+// dtAt(i) gives tick i's dt (jitter); the run lasts `seconds`.
+template <typename DtAt>
+ShakeRun shakeLayout(Method method, int count, double seconds, DtAt dtAt, double stiffness = 800) {
+  const Block b = block(60, 60, 60, 1.0);
+  const double half = 0.03;
+  MultiFingerParams params;
+  params.method = method;
+  params.stiffness = stiffness;
+  params.dynamicsStiffness = stiffness;
+  MultiFingerGrasp grasp(b.model, b.mass, count, params);
+  std::vector<hg::Vec3> tips(count);
+  ShakeRun r;
+  double t = 0;
+  for (int i = 0; t < seconds; ++i) {
+    const double dt = dtAt(i);
+    t += dt;
+    for (int j = 0; j < count; ++j) tips[j] = kRunawayHand[j] * half + hg::Vec3(0.3 * half * std::sin(9 * t), 0, 0);
+    const MultiFingerOutput& o = grasp.step(tips, hg::Vec3::Zero(), hg::Vec3::Zero(), dt);
+    if (!o.body.position.allFinite() || !o.body.rotation.allFinite()) r.finite = false;
+    for (const FingerOutput& f : o.fingers) {
+      if (!f.force.allFinite() || !f.torsion.allFinite()) r.finite = false;
+      r.largestForce = std::max(r.largestForce, f.force.norm());
+    }
+    r.largestPosition = std::max(r.largestPosition, o.body.position.norm());
+    if (!r.finite) break;
+  }
+  return r;
+}
+
+// A sane bound for that hand: each spring at most a few times k × (1.5 mm + the shake's
+// amplitude of 9 mm), plus a few times the block's weight and shake inertia.
+double runawayBound(double stiffness) {
+  const double depth = 0.0015 + 0.3 * 0.03;
+  return 5 * stiffness * depth + 5 * (1.0 * 9.81 + 1.0 * 0.3 * 0.03 * 81);
+}
+
+}  // namespace
+
+TEST(MultiFingerGrasp, FiveFingerUnopposedLayoutDoesNotRunAway) {
+  const ShakeRun r = shakeLayout(Method::Proposed, 5, 5.0, [](int) { return 1e-3; });
+  std::printf("five-finger layout: largest force %.4g N, largest |position| %.4g m\n", r.largestForce,
+              r.largestPosition);
+  EXPECT_TRUE(r.finite);
+  EXPECT_LT(r.largestForce, runawayBound(800));
+  EXPECT_LT(r.largestPosition, 0.1);
+}
+
+// The same layout with 2–5 of its fingers, dt 1e-4..5e-3 and a jittery servo clock (dt
+// ×0.3..×3 of 1 ms, now and then a 10 ms stall): never NaN, forces bounded.
+TEST(MultiFingerGrasp, UnopposedLayoutStaysBoundedOverDtAndJitter) {
+  for (int count = 2; count <= 5; ++count) {
+    for (double dt : {1e-4, 3e-4, 1e-3, 2e-3, 5e-3}) {
+      SCOPED_TRACE(testing::Message() << count << " fingers dt " << dt);
+      const ShakeRun r = shakeLayout(Method::Proposed, count, dt < 5e-4 ? 1.5 : 4.0, [dt](int) { return dt; });
+      EXPECT_TRUE(r.finite);
+      EXPECT_LT(r.largestForce, runawayBound(800));
+      EXPECT_LT(r.largestPosition, 0.1);
+    }
+    SCOPED_TRACE(testing::Message() << count << " fingers, jittery dt");
+    std::mt19937 random(count);
+    std::uniform_real_distribution<double> jitter(0.3, 3.0);
+    const ShakeRun r = shakeLayout(Method::Proposed, count, 4.0, [&](int i) {
+      return i % 397 == 0 ? 1e-2 : 1e-3 * jitter(random);
+    });
+    EXPECT_TRUE(r.finite);
+    EXPECT_LT(r.largestForce, runawayBound(800));
+    EXPECT_LT(r.largestPosition, 0.1);
+  }
+}
+
+// Step 8's slip: a twist beyond what torsional friction holds turns the part the way the
+// twist pushes it, the fingers feel no more than their torsional limit, and the spring
+// never asks for more torque than the twist (the slip once turned the shell away from the
+// part: it spun both ways at hundreds of rad/s and asked ±3 N m of a 0.2 N m twist).
+TEST(MultiFingerGrasp, SlipTurnsThePartWithTheTwistAndStaysBounded) {
+  const Block b = block(60, 60, 100, 1.0);
+  MultiFingerParams params;
+  params.gravity = hg::Vec3(0, 0, -2.0);
+  MultiFingerGrasp grasp(b.model, b.mass, 2, params);
+  const std::vector<hg::Vec3> tips{{0.0275, 0, 0}, {-0.0275, 0, 0}};
+  const double dt = 1e-3, twist = 0.2;
+  for (int i = 0; i < 1000; ++i) grasp.step(tips, hg::Vec3::Zero(), hg::Vec3::Zero(), dt);
+  double turned = 0;  // about +x, unwrapped
+  for (int i = 0; i < 3000; ++i) {
+    const MultiFingerOutput& o = grasp.step(tips, hg::Vec3::Zero(), hg::Vec3(twist, 0, 0), dt);
+    turned += dt * grasp.body().angularVelocity().x();
+    EXPECT_GT(grasp.body().angularVelocity().x(), -1e-6) << i;  // never turned back against the twist
+    EXPECT_LT(o.resultantTorque.norm(), 1.1 * twist) << i;
+    for (int j = 0; j < 2; ++j) {
+      const FingerOutput& f = o.fingers[j];
+      EXPECT_LE(f.torsion.norm(), params.torsionalFriction * std::max(0.0, f.force.dot(f.normal)) + 1e-9) << i;
+      EXPECT_LT(f.force.norm(), 10.0) << i;
+    }
+  }
+  EXPECT_TRUE(grasp.output().slipping);
+  EXPECT_GT(turned, 3.0);
 }

@@ -26,6 +26,13 @@ const geometry::PenetrationModel& checked(const std::shared_ptr<const geometry::
   return *model;
 }
 
+// Turns the shell rigidly by the rotation vector `turn` (world) about the point `pivot`.
+void turnShell(PartPose& shell, const Vec3& pivot, const Vec3& turn) noexcept {
+  const Mat3 R = math::fromRotationVector(turn);
+  shell.rotation = math::orthonormalized(R * shell.rotation);
+  shell.position = pivot + R * (shell.position - pivot);
+}
+
 }  // namespace
 
 MultiFingerGrasp::MultiFingerGrasp(std::shared_ptr<const geometry::PenetrationModel> model,
@@ -116,6 +123,12 @@ const MultiFingerOutput& MultiFingerGrasp::step(std::span<const Vec3> tips, cons
       shellV_ = body_.velocity();
       shellW_ = body_.angularVelocity();
     }
+    // Balanced pose to balanced pose: step 8's slip turn of the last tick is counted here
+    // once, together with this tick's balance. Measured from the pose after the slip turn
+    // instead, the filter saw only the balance turning the shell back, every tick the same
+    // way: a one-sided shell spin that the damper fed into the part, which spun up without
+    // bound (the five-finger runaway test).
+    lastShell_ = shell_;
     const Vec3 vs = shellV_, ws = shellW_;
     spring.k = kd;
     spring.c = 2 * zeta * std::sqrt(kd * mass);
@@ -187,12 +200,16 @@ const MultiFingerOutput& MultiFingerGrasp::step(std::span<const Vec3> tips, cons
     }
   }
   // 8. Beyond the torsional limit the part turns in the grasp: the shell gives way about
-  // the contact normal by what the fingers cannot hold, so the spring asks no more.
-  if (slipping && spring.kr > 0) {
-    const double excess = unmatchedTorque.dot(slipAxis);
-    const Mat3 turn = math::fromRotationVector(excess / spring.kr * slipAxis);
-    shell_.rotation = math::orthonormalized(turn * shell_.rotation);
-    shell_.position = centre + turn * (shell_.position - centre);
+  // the contact normal, TOWARDS the body, until the spring-damper asks no more than the
+  // fingers hold. Turning the shell by −δ a lowers the spring's torque about a by kr δ at
+  // once and, through the filtered shell velocity the damper sees next tick, by cr α δ / dt:
+  // δ = excess / (kr + cr α / dt). (Turning by +excess / kr, as before, turned the shell AWAY
+  // from the body and ignored the damper: each slip asked for a larger one, and the part
+  // spun up — hundreds of rad/s, finger forces of kN.)
+  if (slipping) {
+    const double alpha = dt / (std::max(0.0, params_.shellVelocityTau) + dt);
+    const double give = spring.kr + spring.cr * alpha / dt;
+    if (give > 0) turnShell(shell_, centre, -unmatchedTorque.dot(slipAxis) / give * slipAxis);
   }
 
   for (int j = 0; j < m; ++j) {
@@ -205,8 +222,7 @@ const MultiFingerOutput& MultiFingerGrasp::step(std::span<const Vec3> tips, cons
     f.force = grasp[j] + share[j] * n[j] - tangential[j];
     f.torsion = -torsion[j] * n[j];
   }
-  if (m == 0) shell_ = body_.pose();  // let go: the shell is the part's shape again
-  lastShell_ = shell_;
+  if (m == 0) shell_ = lastShell_ = body_.pose();  // let go: the shell is the part's shape again
   haveLast_ = true;
   out_.shell = shell_;
   out_.body = body_.pose();

@@ -99,7 +99,7 @@ class MultiFingerGrasp {
   RigidBody body_;
   ResultantDistributor distributor_;
   PartPose shell_;
-  PartPose lastShell_;
+  PartPose lastShell_;  // the balanced shell of the last held tick (before its slip turn)
   bool haveLast_ = false;
   Vec3 shellV_ = Vec3::Zero(), shellW_ = Vec3::Zero();
   double radiusOfGyration2_ = 0;
