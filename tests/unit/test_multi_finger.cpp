@@ -691,3 +691,186 @@ TEST(MultiFingerGrasp, SlipTurnsThePartWithTheTwistAndStaysBounded) {
   EXPECT_TRUE(grasp.output().slipping);
   EXPECT_GT(turned, 3.0);
 }
+
+namespace {
+
+// Four fingers on the ±x faces at staggered heights: their normal pushes span F_x, N_y and
+// N_z, so a resultant along x (the shake) with no weight is feasible for eq 19 alone.
+const std::vector<hg::Vec3> kStaggeredHand{
+    {0.95, 0.5, 0.5}, {0.95, -0.5, -0.5}, {-0.95, 0.5, -0.5}, {-0.95, -0.5, 0.5}};
+
+}  // namespace
+
+// Issue 6 in 6 DOF: eq 19's shares never lower a finger's grasping force (each finger's
+// normal force is its grasping spring's plus k_i ≥ 0), and the fingers give the part its
+// resultant whenever the normals can (no friction, no weight: eq 19 alone answers).
+TEST(MultiFingerGrasp, DistributionNeverLowersGraspingForceAndMatchesFeasibleResultant) {
+  const Block b = block(60, 60, 60, 1.0);
+  const double half = 0.03, dt = 1e-3;
+  MultiFingerParams params;
+  params.gravity = hg::Vec3::Zero();
+  params.friction = 0;
+  params.torsionalFriction = 0;
+  MultiFingerGrasp grasp(b.model, b.mass, 4, params);
+  std::vector<hg::Vec3> tips(4);
+  double largestResultant = 0, largestShare = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const double t = i * dt;
+    for (int j = 0; j < 4; ++j) tips[j] = kStaggeredHand[j] * half + hg::Vec3(0.3 * half * std::sin(9 * t), 0, 0);
+    const MultiFingerOutput& o = grasp.step(tips, hg::Vec3::Zero(), hg::Vec3::Zero(), dt);
+    ASSERT_EQ(o.contacts, 4) << t;
+    for (int j = 0; j < 4; ++j) {
+      const FingerOutput& f = o.fingers[j];
+      const double springNormal = params.stiffness * (f.proxy - tips[j]).dot(f.normal);
+      EXPECT_GE(f.share, 0) << t;
+      EXPECT_GE(f.force.dot(f.normal), springNormal - 1e-9) << t;
+      EXPECT_NEAR(f.force.dot(f.normal), springNormal + f.share, 1e-9) << t;
+      largestShare = std::max(largestShare, f.share);
+    }
+    const double scale = o.resultantForce.norm() + o.resultantTorque.norm() / half;
+    largestResultant = std::max(largestResultant, o.resultantForce.norm());
+    EXPECT_LE(o.unmatchedForce.norm(), 0.02 * scale + 1e-6) << t;
+    EXPECT_LE(o.unmatchedTorque.norm() / half, 0.02 * scale + 1e-6) << t;
+  }
+  EXPECT_GT(largestResultant, 1.0);  // the shake really needed a resultant
+  EXPECT_GT(largestShare, 0.5);
+}
+
+namespace {
+
+struct ExtremeCase {
+  const char* name;
+  double size_mm, kg, stiffness;
+  std::vector<hg::Vec3> tips;  // in units of the half size
+};
+
+// Largest finger force over a 2 s shake (0.2 half · sin 9t along x, 2 % squeeze); false
+// on a NaN anywhere.
+template <typename DtAt>
+bool shakeExtreme(const ExtremeCase& c, Method method, DtAt dtAt, double& largest) {
+  const Block b = block(c.size_mm, c.size_mm, c.size_mm, c.kg);
+  const double half = 0.5e-3 * c.size_mm;
+  MultiFingerParams params;
+  params.method = method;
+  params.stiffness = c.stiffness;
+  params.dynamicsStiffness = c.stiffness;
+  MultiFingerGrasp grasp(b.model, b.mass, static_cast<int>(c.tips.size()), params);
+  std::vector<hg::Vec3> tips(c.tips.size());
+  largest = 0;
+  double t = 0;
+  for (int i = 0; t < 2.0; ++i) {
+    const double dt = dtAt(i);
+    t += dt;
+    for (std::size_t j = 0; j < tips.size(); ++j)
+      tips[j] = c.tips[j] * half * (1 - 0.02 * std::sin(6 * t)) + hg::Vec3(0.2 * half * std::sin(9 * t), 0, 0);
+    const MultiFingerOutput& o = grasp.step(tips, hg::Vec3::Zero(), hg::Vec3::Zero(), dt);
+    if (!o.body.position.allFinite() || !o.body.rotation.allFinite() || !o.shell.position.allFinite()) return false;
+    for (const FingerOutput& f : o.fingers) {
+      if (!f.force.allFinite() || !f.torsion.allFinite()) return false;
+      largest = std::max(largest, f.force.norm());
+    }
+  }
+  return true;
+}
+
+// A physical bound: a few times each spring over the deepest a fingertip gets (its depth
+// plus the squeeze and the shake) and the part's weight and shake inertia.
+double physicalBound(const ExtremeCase& c) {
+  const double half = 0.5e-3 * c.size_mm;
+  double depth = 0;
+  for (const hg::Vec3& p : c.tips) depth = std::max(depth, (1 - p.cwiseAbs().maxCoeff()) * half);
+  depth += 0.02 * half + 0.2 * half;
+  const double weightAndInertia = c.kg * (9.81 + 0.2 * half * 81);
+  return 5 * (c.stiffness * depth + weightAndInertia) + 0.1;
+}
+
+}  // namespace
+
+// Issue 6's extremes in 6 DOF, both methods: stiff springs (1e5 N/m), a 1 mm part, a
+// 100 kg part, five fingers on one face, fingers on opposite edges; dt 1e-4..5e-3 and a
+// jittery clock: no NaN, and forces within a few times springs × depth + weight.
+TEST(MultiFingerGrasp, ExtremePartsAndSpringsStayWithinPhysicalBounds) {
+  const std::vector<hg::Vec3> opposed{{0.95, 0, 0}, {-0.95, 0, 0}, {0, 0.95, 0}};
+  const std::vector<ExtremeCase> cases{
+      {"stiff springs", 60, 1.0, 1e5, opposed},
+      {"tiny part", 1, 1e-5, 800, opposed},
+      {"tiny part, stiff", 1, 1e-5, 1e5, opposed},
+      {"heavy part", 200, 100.0, 800, opposed},
+      {"heavy part, stiff", 200, 100.0, 1e5, opposed},
+      {"five on one face", 60, 1.0, 800,
+       {{0, 0, 0.95}, {0.5, 0, 0.95}, {-0.5, 0, 0.95}, {0, 0.5, 0.95}, {0, -0.5, 0.95}}},
+      {"five on one face, stiff", 60, 1.0, 1e5,
+       {{0, 0, 0.95}, {0.5, 0, 0.95}, {-0.5, 0, 0.95}, {0, 0.5, 0.95}, {0, -0.5, 0.95}}},
+      {"opposite edges", 60, 1.0, 800, {{0.97, 0, 0.97}, {-0.97, 0, -0.97}}},
+      {"opposite edges, stiff", 60, 1.0, 1e5, {{0.97, 0, 0.97}, {-0.97, 0, -0.97}}},
+  };
+  for (const ExtremeCase& c : cases) {
+    for (Method method : {Method::Conventional, Method::Proposed}) {
+      const char* name = method == Method::Conventional ? "conventional" : "proposed";
+      for (double dt : {1e-4, 1e-3, 5e-3}) {
+        SCOPED_TRACE(testing::Message() << c.name << ", " << name << ", dt " << dt);
+        double largest = 0;
+        EXPECT_TRUE(shakeExtreme(c, method, [dt](int) { return dt; }, largest));
+        EXPECT_LT(largest, physicalBound(c));
+      }
+      SCOPED_TRACE(testing::Message() << c.name << ", " << name << ", jittery dt");
+      std::mt19937 random(7);
+      std::uniform_real_distribution<double> jitter(0.3, 3.0);
+      double largest = 0;
+      EXPECT_TRUE(shakeExtreme(c, method, [&](int i) { return i % 211 == 0 ? 1e-2 : 1e-3 * jitter(random); }, largest));
+      EXPECT_LT(largest, physicalBound(c));
+    }
+  }
+}
+
+// A device that sends NaN for one tick (or a zero or NaN dt, or a NaN load): the grasp
+// keeps its whole state, and the next finite sample gives exactly what it would have
+// given had the bad tick never come.
+TEST(MultiFingerGrasp, NonFiniteTickLeavesTheStateAndTheNextSampleContinues) {
+  const Block b = block(60, 60, 100, 1.0);
+  for (Method method : {Method::Conventional, Method::Proposed}) {
+    SCOPED_TRACE(method == Method::Conventional ? "conventional" : "proposed");
+    MultiFingerParams params;
+    params.method = method;
+    params.contactDampingRatio = 0.3;  // the conventional dampers use the last fingertips
+    params.gravity = hg::Vec3(0, 0, -2.0);
+    MultiFingerGrasp grasp(b.model, b.mass, 3, params), twin(b.model, b.mass, 3, params);
+    std::vector<hg::Vec3> tips(3);
+    auto hand = [&](double t) {
+      const hg::Vec3 wrist(0.01 * std::sin(7 * t), 0.005 * std::sin(5 * t), 0);
+      tips = {hg::Vec3(0.0275, 0, 0) + wrist, hg::Vec3(-0.0275, 0.01, 0) + wrist, hg::Vec3(-0.0275, -0.01, 0) + wrist};
+    };
+    const double dt = 1e-3;
+    int tick = 0;
+    for (; tick < 700; ++tick) {
+      hand(tick * dt);
+      grasp.step(tips, hg::Vec3::Zero(), hg::Vec3::Zero(), dt);
+      twin.step(tips, hg::Vec3::Zero(), hg::Vec3::Zero(), dt);
+    }
+    const MultiFingerOutput before = grasp.output();
+    const hg::Vec3 v = grasp.body().velocity(), w = grasp.body().angularVelocity();
+    ASSERT_EQ(before.contacts, 3);
+    hand(tick * dt);
+    std::vector<hg::Vec3> bad = tips;
+    bad[1].y() = NAN;
+    grasp.step(bad, hg::Vec3::Zero(), hg::Vec3::Zero(), dt);
+    grasp.step(tips, hg::Vec3::Zero(), hg::Vec3::Zero(), 0.0);
+    grasp.step(tips, hg::Vec3::Zero(), hg::Vec3::Zero(), NAN);
+    grasp.step(tips, hg::Vec3(NAN, 0, 0), hg::Vec3::Zero(), dt);
+    grasp.step(tips, hg::Vec3::Zero(), hg::Vec3(0, INFINITY, 0), dt);
+    const MultiFingerOutput& after = grasp.output();
+    EXPECT_EQ(after.body.position, before.body.position);
+    EXPECT_EQ(after.body.rotation, before.body.rotation);
+    EXPECT_EQ(after.shell.position, before.shell.position);
+    EXPECT_EQ(grasp.body().velocity(), v);
+    EXPECT_EQ(grasp.body().angularVelocity(), w);
+    for (int j = 0; j < 3; ++j) EXPECT_EQ(after.fingers[j].force, before.fingers[j].force) << j;
+    for (int k = 0; k < 300; ++k, ++tick) {
+      hand(tick * dt);
+      const MultiFingerOutput& o = grasp.step(tips, hg::Vec3::Zero(), hg::Vec3::Zero(), dt);
+      const MultiFingerOutput& r = twin.step(tips, hg::Vec3::Zero(), hg::Vec3::Zero(), dt);
+      for (int j = 0; j < 3; ++j) EXPECT_EQ(o.fingers[j].force, r.fingers[j].force) << k << " " << j;
+      EXPECT_EQ(o.body.position, r.body.position) << k;
+    }
+  }
+}
