@@ -874,3 +874,40 @@ TEST(MultiFingerGrasp, NonFiniteTickLeavesTheStateAndTheNextSampleContinues) {
     }
   }
 }
+
+// Eq 19 with two fingers a little out of line (0.5–5 mm across a 55 mm grip): a torque
+// across their line would need opposed pushes of N / offset. No finger is given more than
+// the whole resultant, |F| + |N| / L, and the force along the grasp (the shake) is still
+// given: clipping each share to the cap once lost all of it (7.8 of 7.9 N).
+TEST(MultiFingerGrasp, NearlyCollinearFingersKeepTheForceWithinTheCap) {
+  const Block b = block(60, 60, 100, 1.0);
+  for (double offset : {0.5e-3, 2e-3, 5e-3}) {
+    SCOPED_TRACE(testing::Message() << "offset " << offset);
+    MultiFingerParams params;
+    params.gravity = hg::Vec3(0, 0, -2.0);
+    MultiFingerGrasp grasp(b.model, b.mass, 2, params);
+    const double dt = 1e-3;
+    double largestResultant = 0, largestUnmatched = 0;
+    long allocations = 0;
+    std::vector<hg::Vec3> tips(2);
+    for (int i = 0; i < 6000; ++i) {
+      const double w = 0.03 * std::sin(9 * i * dt);
+      tips[0] = hg::Vec3(w + 0.0275, 0, 0.01 + offset);
+      tips[1] = hg::Vec3(w - 0.0275, 0, 0.01);
+      const long before = hg::test::allocations();
+      const MultiFingerOutput& o = grasp.step(tips, hg::Vec3::Zero(), hg::Vec3::Zero(), dt);
+      allocations += hg::test::allocations() - before;
+      ASSERT_EQ(o.contacts, 2);
+      const hg::Vec3 centre = o.shell.pointToAbsolute(b.mass.centre_m);
+      const double L = std::sqrt(0.5 * ((o.fingers[0].proxy - centre).squaredNorm() +
+                                        (o.fingers[1].proxy - centre).squaredNorm()));
+      const double cap = o.resultantForce.norm() + o.resultantTorque.norm() / L;
+      for (int j = 0; j < 2; ++j) EXPECT_LE(o.fingers[j].share, cap * (1 + 1e-9)) << i;
+      largestResultant = std::max(largestResultant, std::abs(o.resultantForce.x()));
+      largestUnmatched = std::max(largestUnmatched, std::abs(o.unmatchedForce.x()));
+    }
+    EXPECT_GT(largestResultant, 3.0);
+    EXPECT_LT(largestUnmatched, 0.15 * largestResultant);
+    EXPECT_EQ(allocations, 0);  // the second solve too
+  }
+}
