@@ -197,16 +197,22 @@ const MultiFingerOutput& MultiFingerGrasp::step(std::span<const Vec3> tips, cons
     }
   }
   // 8. Beyond the torsional limit the part turns in the grasp: the shell gives way about
-  // the contact normal, TOWARDS the body, until the spring-damper asks no more than the
+  // the contact normal a, TOWARDS the body, until the spring-damper asks no more than the
   // fingers hold. Turning the shell by −δ a lowers the spring's torque about a by kr δ at
   // once and, through the filtered shell velocity the damper sees next tick, by cr α δ / dt:
-  // δ = excess / (kr + cr α / dt). (Turning by +excess / kr, as before, turned the shell AWAY
+  // δ = excess / (kr + cr α / dt). While the body turns away (the slip's direction) the
+  // shell also follows its turn this tick, so the spring holds no more than the fingers
+  // and the part spins up as under kinetic torsional friction, whatever dt (without it the
+  // lag acted as a drag ∝ dt). (Turning by +excess / kr, as before, turned the shell AWAY
   // from the body and ignored the damper: each slip asked for a larger one, and the part
   // spun up — hundreds of rad/s, finger forces of kN.)
   if (slipping) {
     const double alpha = dt / (std::max(0.0, params_.shellVelocityTau) + dt);
     const double give = spring.kr + spring.cr * alpha / dt;
-    if (give > 0) turnShell(shell_, centre, -unmatchedTorque.dot(slipAxis) / give * slipAxis);
+    const double excess = unmatchedTorque.dot(slipAxis);
+    const double spin = body_.angularVelocity().dot(slipAxis);
+    const double follow = spin * excess < 0 ? spin * dt : 0.0;
+    if (give > 0) turnShell(shell_, centre, (follow - excess / give) * slipAxis);
   }
 
   for (int j = 0; j < m; ++j) {
