@@ -14,6 +14,12 @@ std::array<GodObject, kMaxFingers> makeGods(const geometry::PenetrationModel& mo
   return {GodObject(model, p), GodObject(model, p), GodObject(model, p), GodObject(model, p), GodObject(model, p)};
 }
 
+// Eq 19 weighing the torque ~not at all: the shares for the force alone.
+DistributionParams forceOnlyParams(DistributionParams p) {
+  p.gamma1 = 1e-12;
+  return p;
+}
+
 GodObjectParams godParams(const MultiFingerParams& p) {
   GodObjectParams g;
   g.stiffness = p.stiffness;
@@ -26,6 +32,13 @@ const geometry::PenetrationModel& checked(const std::shared_ptr<const geometry::
   return *model;
 }
 
+// Turns the shell rigidly by the rotation vector `turn` (world) about the point `pivot`.
+void turnShell(PartPose& shell, const Vec3& pivot, const Vec3& turn) noexcept {
+  const Mat3 R = math::fromRotationVector(turn);
+  shell.rotation = math::orthonormalized(R * shell.rotation);
+  shell.position = pivot + R * (shell.position - pivot);
+}
+
 }  // namespace
 
 MultiFingerGrasp::MultiFingerGrasp(std::shared_ptr<const geometry::PenetrationModel> model,
@@ -35,7 +48,8 @@ MultiFingerGrasp::MultiFingerGrasp(std::shared_ptr<const geometry::PenetrationMo
       count_(fingers),
       gods_(makeGods(checked(model_), godParams(params))),
       body_(mass.mass_kg, mass.centre_m, mass.inertia_kgm2),
-      distributor_(params.distribution) {
+      distributor_(params.distribution),
+      forceOnly_(forceOnlyParams(params.distribution)) {
   if (fingers < 1 || fingers > kMaxFingers) throw std::invalid_argument("multi-finger grasp: 1 to 5 fingers");
   if (!(mass.mass_kg > 0)) throw std::invalid_argument("multi-finger grasp: the part needs a positive mass");
   radiusOfGyration2_ = std::max(1e-8, mass.inertia_kgm2.trace() / (2 * mass.mass_kg));
@@ -47,6 +61,7 @@ void MultiFingerGrasp::reset(const PartPose& pose) noexcept {
   for (GodObject& g : gods_) g.reset();
   body_.reset(pose);
   distributor_.reset();
+  forceOnly_.reset();
   shell_ = lastShell_ = pose;
   haveLast_ = false;
   haveTips_ = false;
@@ -116,6 +131,12 @@ const MultiFingerOutput& MultiFingerGrasp::step(std::span<const Vec3> tips, cons
       shellV_ = body_.velocity();
       shellW_ = body_.angularVelocity();
     }
+    // Balanced pose to balanced pose: step 8's slip turn of the last tick is counted here
+    // once, together with this tick's balance. Measured from the pose after the slip turn
+    // instead, the filter saw only the balance turning the shell back, every tick the same
+    // way: a one-sided shell spin that the damper fed into the part, which spun up without
+    // bound (the five-finger runaway test).
+    lastShell_ = shell_;
     const Vec3 vs = shellV_, ws = shellW_;
     spring.k = kd;
     spring.c = 2 * zeta * std::sqrt(kd * mass);
@@ -138,23 +159,12 @@ const MultiFingerOutput& MultiFingerGrasp::step(std::span<const Vec3> tips, cons
     contacts[j].normal = -n[j];
     contacts[j].graspForce = grasp[j].norm();
   }
-  Vec3 unmatchedForce = F, unmatchedTorque = N;
   std::array<double, kMaxFingers> share{};
-  if (m > 0) {
-    const DistributionResult& d =
-        distributor_.solve(std::span<const FingerContact>(contacts.data(), m), F, N, centre);
-    if (d.valid) {
-      // Nearly collinear fingers asked for a torque across their line would need huge
-      // opposed pushes: no finger is given more than the whole resultant, |F| + |N| / L.
-      const double cap = F.norm() + N.norm() / std::max(d.leverArm, 1e-4);
-      unmatchedForce = F;
-      unmatchedTorque = N;
-      for (int j = 0; j < m; ++j) {
-        share[j] = std::min(d.k[j], cap);
-        unmatchedForce -= share[j] * contacts[j].normal.normalized();
-        unmatchedTorque -= (r[j] - centre).cross(share[j] * contacts[j].normal.normalized());
-      }
-    }
+  if (m > 0) distribute(std::span<const FingerContact>(contacts.data(), m), F, N, centre, share);
+  Vec3 unmatchedForce = F, unmatchedTorque = N;
+  for (int j = 0; j < m; ++j) {
+    unmatchedForce -= share[j] * contacts[j].normal.normalized();
+    unmatchedTorque -= (r[j] - centre).cross(share[j] * contacts[j].normal.normalized());
   }
 
   // Eq 19 gives only normal pushes: what is left of the force along the surfaces (a
@@ -187,12 +197,22 @@ const MultiFingerOutput& MultiFingerGrasp::step(std::span<const Vec3> tips, cons
     }
   }
   // 8. Beyond the torsional limit the part turns in the grasp: the shell gives way about
-  // the contact normal by what the fingers cannot hold, so the spring asks no more.
-  if (slipping && spring.kr > 0) {
+  // the contact normal a, TOWARDS the body, until the spring-damper asks no more than the
+  // fingers hold. Turning the shell by −δ a lowers the spring's torque about a by kr δ at
+  // once and, through the filtered shell velocity the damper sees next tick, by cr α δ / dt:
+  // δ = excess / (kr + cr α / dt). While the body turns away (the slip's direction) the
+  // shell also follows its turn this tick, so the spring holds no more than the fingers
+  // and the part spins up as under kinetic torsional friction, whatever dt (without it the
+  // lag acted as a drag ∝ dt). (Turning by +excess / kr, as before, turned the shell AWAY
+  // from the body and ignored the damper: each slip asked for a larger one, and the part
+  // spun up — hundreds of rad/s, finger forces of kN.)
+  if (slipping) {
+    const double alpha = dt / (std::max(0.0, params_.shellVelocityTau) + dt);
+    const double give = spring.kr + spring.cr * alpha / dt;
     const double excess = unmatchedTorque.dot(slipAxis);
-    const Mat3 turn = math::fromRotationVector(excess / spring.kr * slipAxis);
-    shell_.rotation = math::orthonormalized(turn * shell_.rotation);
-    shell_.position = centre + turn * (shell_.position - centre);
+    const double spin = body_.angularVelocity().dot(slipAxis);
+    const double follow = spin * excess < 0 ? spin * dt : 0.0;
+    if (give > 0) turnShell(shell_, centre, (follow - excess / give) * slipAxis);
   }
 
   for (int j = 0; j < m; ++j) {
@@ -205,8 +225,7 @@ const MultiFingerOutput& MultiFingerGrasp::step(std::span<const Vec3> tips, cons
     f.force = grasp[j] + share[j] * n[j] - tangential[j];
     f.torsion = -torsion[j] * n[j];
   }
-  if (m == 0) shell_ = body_.pose();  // let go: the shell is the part's shape again
-  lastShell_ = shell_;
+  if (m == 0) shell_ = lastShell_ = body_.pose();  // let go: the shell is the part's shape again
   haveLast_ = true;
   out_.shell = shell_;
   out_.body = body_.pose();
@@ -216,6 +235,35 @@ const MultiFingerOutput& MultiFingerGrasp::step(std::span<const Vec3> tips, cons
   out_.unmatchedTorque = unmatchedTorque;
   out_.slipping = slipping;
   return out_;
+}
+
+// Eq 19's shares k_i. Nearly collinear fingers asked for a torque across their line would
+// need huge opposed pushes (k_i ~ N / their offset): no finger is given more than the
+// whole resultant, cap = |F| + |N| / L, unless the force alone needs more. Clipping each
+// k_i to the cap lost the force with the squeeze (two fingers 0.5 mm out of line lost all
+// of a shake's 8 N along the grasp), so the torque is given up first: the shares run from
+// eq 19 for the force alone (torque weighed ~0) towards the full eq 19 as far as the cap
+// allows. Both are ≥ 0 and continuous in the contacts and (F, N), and so is the blend
+// (requirements 1 and 3). A larger γ3 cannot do this: it bounds the squeeze only with
+// γ3 ≳ 1/8, which also drops ~10 % of every force.
+void MultiFingerGrasp::distribute(std::span<const FingerContact> contacts, const Vec3& F, const Vec3& N,
+                                  const Vec3& centre, std::array<double, kMaxFingers>& share) noexcept {
+  const int m = static_cast<int>(contacts.size());
+  const DistributionResult& full = distributor_.solve(contacts, F, N, centre);
+  if (!full.valid) return;
+  const double cap = F.norm() + N.norm() / std::max(full.leverArm, 1e-4);
+  double largest = 0;
+  for (int j = 0; j < m; ++j) largest = std::max(largest, full.k[j]);
+  for (int j = 0; j < m; ++j) share[j] = std::min(full.k[j], cap);
+  if (largest <= cap) return;
+  const DistributionResult& force = forceOnly_.solve(contacts, F, Vec3::Zero(), centre);
+  if (!force.valid) return;
+  double s = 1;  // how much of the torque the cap lets through
+  for (int j = 0; j < m; ++j) {
+    if (full.k[j] <= cap) continue;
+    s = std::min(s, force.k[j] >= cap ? 0.0 : (cap - force.k[j]) / (full.k[j] - force.k[j]));
+  }
+  for (int j = 0; j < m; ++j) share[j] = force.k[j] + s * (full.k[j] - force.k[j]);
 }
 
 const MultiFingerOutput& MultiFingerGrasp::stepConventional(std::span<const Vec3> tips, const Vec3& externalForce,

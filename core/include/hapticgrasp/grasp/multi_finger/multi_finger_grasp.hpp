@@ -89,6 +89,8 @@ class MultiFingerGrasp {
   const RigidBody& body() const noexcept { return body_; }
 
  private:
+  void distribute(std::span<const FingerContact> contacts, const Vec3& F, const Vec3& N, const Vec3& centre,
+                  std::array<double, kMaxFingers>& share) noexcept;
   const MultiFingerOutput& stepConventional(std::span<const Vec3> tips, const Vec3& externalForce,
                                             const Vec3& externalTorque, double dt) noexcept;
 
@@ -98,8 +100,9 @@ class MultiFingerGrasp {
   std::array<GodObject, kMaxFingers> gods_;
   RigidBody body_;
   ResultantDistributor distributor_;
+  ResultantDistributor forceOnly_;  // eq 19 for the force alone, when the cap bites
   PartPose shell_;
-  PartPose lastShell_;
+  PartPose lastShell_;  // the balanced shell of the last held tick (before its slip turn)
   bool haveLast_ = false;
   Vec3 shellV_ = Vec3::Zero(), shellW_ = Vec3::Zero();
   double radiusOfGyration2_ = 0;
