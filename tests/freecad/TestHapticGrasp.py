@@ -410,6 +410,27 @@ class PartsIntoTheSession(unittest.TestCase):
                                       "Tube rebuilt: haptics restarted with the new shape"])
         s.stop()
 
+    def test_an_undo_while_running_puts_the_part_back_in_the_core_too(self):
+        before = App.Placement(self.cylinder.Placement)
+        s = self.session = HapticGraspDocument.make_session(self)
+        s.start()
+        run(s, s.core.script_duration() + 0.2)
+        self.assertTrue(s.running)   # the script is over, the servo loop runs on
+        self.assertEqual((s.moves, s.restarts), (1, 0))
+        moved = App.Placement(self.cylinder.Placement)
+        self.assertAlmostEqual((moved.Base - before.Base).y, 100.0, delta=0.5)
+        self.doc.undo()
+        self.assertTrue(hs.same_placement(self.cylinder.Placement, before))
+        s.tick()   # sees the document's placement differ from the core's: restart
+        self.assertEqual(s.restarts, 1)
+        snap = s.tick()
+        s.stop()
+        self.assertTrue(hs.same_placement(hs.to_placement(snap["placements"][0]), before, 1e-6))
+        self.assertTrue(hs.same_placement(self.cylinder.Placement, before))
+        self.assertEqual(s.rebuilt, [0, 0])
+        self.assertEqual(s.messages, ["Cylinder moved in the document: haptics restarted with the parts where "
+                                      "the document has them"])
+
     def test_a_part_inside_an_app_part_moves_in_global_coordinates_and_one_undo_restores_it(self):
         assembly = self.doc.addObject("App::Part", "Assembly")
         assembly.Placement = App.Placement(App.Vector(150, -80, 40), App.Rotation(App.Vector(1, 1, 1), 40))
@@ -433,6 +454,7 @@ class PartsIntoTheSession(unittest.TestCase):
         s.stop()
         self.assertIn("MANIPULATE", states)
         self.assertEqual(s.moves, 1)
+        self.assertEqual(s.restarts, 0)   # the core and the document agreed all along
         after = self.cylinder.getGlobalPlacement()
         moved = after.Base - wanted.Base
         print("in App::Part: moved by (%.3f, %.3f, %.3f) mm globally; local %s -> %s"

@@ -394,16 +394,18 @@ class HapticSession:
                     self._commit()
         self.state = state
         if self.core.running:
-            self._watch_edits(state)
+            self._watch_edits(state, snap)
         return snap
 
     # --- edits while running ----------------------------------------------------------
-    def _watch_edits(self, state):
+    def _watch_edits(self, state, snap):
         """A part whose Shape changed (a recompute made a new shape: TShape identity, so
         Placement changes do not count) gets its model rebuilt on a worker thread; finished
         rebuilds are swapped in when no part is held (not in GRASP or MANIPULATE, no move
         open): the servo loop is restarted with the new scene, the parts where the document
-        has them, and the report view says so. Untouched parts keep their models."""
+        has them, and the report view says so. Untouched parts keep their models.
+        A part the document placed elsewhere than the core has it (an undo, a Placement
+        typed in, its App::Part moved) restarts the loop the same way, without a rebuild."""
         for index, obj in enumerate(self.objects):
             try:
                 shape = obj.Shape
@@ -422,8 +424,19 @@ class HapticSession:
             _warn(self.messages, "%s changed: rebuilding its model" % obj.Label)
         if _DRAINING:
             drain()
-        if not self.rebuilds or self.active is not None or state in HOLDING:
+        if self.active is not None or state in HOLDING:
             return
+        placements = []   # where the document has the parts (global)
+        moved = []
+        for index, obj in enumerate(self.objects):
+            core_placement = to_placement(snap["placements"][index])
+            try:
+                placement = global_placement(obj)
+            except Exception:   # deleted meanwhile: it stays where the core has it
+                placement = core_placement
+            if not same_placement(placement, core_placement, 1e-6):
+                moved.append(obj.Label)
+            placements.append(placement_numbers(placement))
         swapped = []
         for index in sorted(self.rebuilds):
             build, label = self.rebuilds[index]
@@ -437,10 +450,15 @@ class HapticSession:
             self.core.replace_part(index, build)
             self.rebuilt[index] += 1
             swapped.append(label)
+        if not swapped and not moved:
+            return
+        self.core.restart(placements)
+        self.restarts += 1
         if swapped:
-            self.core.restart([placement_numbers(global_placement(o)) for o in self.objects])
-            self.restarts += 1
             _warn(self.messages, "%s rebuilt: haptics restarted with the new shape" % ", ".join(swapped))
+        if moved:
+            _warn(self.messages, "%s moved in the document: haptics restarted with the parts where the "
+                  "document has them" % ", ".join(moved))
 
     # --- internals --------------------------------------------------------------------
     def _begin(self, index):
