@@ -410,6 +410,33 @@ class PartsIntoTheSession(unittest.TestCase):
                                       "Tube rebuilt: haptics restarted with the new shape"])
         s.stop()
 
+    def test_an_edited_partdesign_feature_rebuilds_its_body_only(self):
+        body = self.doc.addObject("PartDesign::Body", "Body")
+        box = self.doc.addObject("PartDesign::AdditiveBox", "Pad")
+        body.addObject(box)
+        box.Length, box.Width, box.Height = 40.0, 30.0, 20.0
+        body.Placement = App.Placement(App.Vector(0, 700, 0), App.Rotation(App.Vector(0, 0, 1), 30))
+        self.doc.recompute()
+        s = self.session = hs.HapticSession(self.doc)
+        self.assertEqual([o.Name for o in s.objects], ["Cylinder", "Block", "Body"])
+        self.assertAlmostEqual(s.core.part_info(2)["bounds_mm"][1][0], 40.0, delta=1e-6)
+        s.use_hand_input(hold_s=0.5)
+        far = ((0.0, -900.0, 0.0), (0.0, -950.0, 0.0), (0.0, -925.0, 100.0))
+        s.start()
+        box.Length = 70.0   # the feature is edited, the Body recomputed
+        self.doc.recompute()
+        deadline = time.monotonic() + 60
+        while s.rebuilt[2] == 0 and time.monotonic() < deadline:
+            s.set_hand(*far)
+            s.tick()
+            time.sleep(0.01)
+        s.stop()
+        self.assertEqual(s.rebuilt, [0, 0, 1])
+        self.assertEqual(s.restarts, 1)
+        self.assertAlmostEqual(s.core.part_info(2)["bounds_mm"][1][0], 70.0, delta=1e-6)
+        self.assertEqual(s.messages, ["Body changed: rebuilding its model",
+                                      "Body rebuilt: haptics restarted with the new shape"])
+
     def test_an_undo_while_running_puts_the_part_back_in_the_core_too(self):
         before = App.Placement(self.cylinder.Placement)
         s = self.session = HapticGraspDocument.make_session(self)

@@ -190,6 +190,30 @@ class HapticGraspGui(unittest.TestCase):
         QtWidgets.QApplication.processEvents()
         App.closeDocument(doc.Name)
 
+    def test_mark_graspable_command_toggles_the_selection_in_one_undo_step(self):
+        Gui.activateWorkbench("HapticGraspWorkbench")
+        doc = App.newDocument("HapticGraspMark")
+        doc.UndoMode = 1
+        a = doc.addObject("Part::Box", "A")
+        b = doc.addObject("Part::Box", "B")
+        b.Placement.Base = App.Vector(50, 0, 0)
+        doc.recompute()
+        doc.clearUndos()
+        try:
+            Gui.Selection.clearSelection()
+            Gui.Selection.addSelection(a)
+            Gui.runCommand("HapticGrasp_MarkGraspable")
+            self.assertTrue(hs.is_graspable(a))
+            self.assertFalse(hs.is_graspable(b))
+            self.assertEqual([o.Name for o in hs.collect_solids(doc, [])], ["A"])
+            self.assertEqual(doc.UndoNames, ["Mark graspable"])
+            Gui.runCommand("HapticGrasp_MarkGraspable")   # all selected marked: unmark
+            self.assertFalse(hs.is_graspable(a))
+            self.assertEqual([o.Name for o in hs.collect_solids(doc, [])], ["A", "B"])
+        finally:
+            Gui.Selection.clearSelection()
+            App.closeDocument(doc.Name)
+
     def test_transition_sounds(self):
         from HapticGrasp import sounds as hsounds
         steps = ["FREE", "INDEX CONTACT", "THUMB CONTACT", "GRASP", "MANIPULATE", "GRASP", "FREE"]
