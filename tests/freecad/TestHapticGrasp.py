@@ -296,8 +296,17 @@ class PartsIntoTheSession(unittest.TestCase):
     def test_models_are_built_off_the_calling_thread_with_progress(self):
         self.add_blocks(4)
         t0 = time.monotonic()
-        s = self.session = hs.HapticSession(self.doc, wait=False)
-        returned_after = time.monotonic() - t0
+        budget = hs.HapticSession.EXPORT_BUDGET_S
+        hs.HapticSession.EXPORT_BUDGET_S = 0.0   # one BREP export per poll
+        try:
+            s = self.session = hs.HapticSession(self.doc, wait=False)
+            returned_after = time.monotonic() - t0
+            first = s.build_progress()
+            self.assertEqual(len(s._requested), 1)   # the others are exported by later polls
+            s.poll_build()
+            self.assertEqual(len(s._requested), 2)
+        finally:
+            hs.HapticSession.EXPORT_BUDGET_S = budget
         polls, seen, names = 0, [], set()
         deadline = time.monotonic() + 120
         while not s.poll_build() and time.monotonic() < deadline:
@@ -310,10 +319,12 @@ class PartsIntoTheSession(unittest.TestCase):
             self.assertFalse(s.ready)
             time.sleep(0.005)   # the calling (GUI) thread keeps running meanwhile
         build_s = time.monotonic() - t0
-        print("build of 6 parts: constructor returned after %.3f s, built in %.2f s, %d polls, done %s, "
-              "names %s" % (returned_after, build_s, polls, seen, sorted(names)))
+        print("build of 6 parts: constructor returned after %.3f s (progress %s), built in %.2f s, %d polls, "
+              "done %s, names %s" % (returned_after, first, build_s, polls, seen, sorted(names)))
         self.assertTrue(s.ready)
-        self.assertEqual(seen[0], 0)
+        self.assertEqual(first[1], 6)
+        self.assertLessEqual(first[0], 1)                # the constructor did not wait
+        self.assertLessEqual(seen[0], 2)
         self.assertGreaterEqual(len(seen), 3, seen)     # progress moved across polls
         self.assertEqual(seen, sorted(seen))
         self.assertEqual(s.build_progress(), (6, 6, ""))

@@ -223,11 +223,46 @@ class HapticSession:
         self._hand = None         # the last set_hand() (index, thumb, wrist) in mm
         self.cancelled = False
         self._candidates = collect_solids(doc, self.messages)
-        self._candidate_shapes = [o.Shape for o in self._candidates]
-        self.build = core.ModelBuild([part_request(o, default_density) for o in self._candidates])
+        self._requested = []   # (object, the Shape exported), in the build's request order
+        self._next = 0         # candidates exported so far
         if wait:
+            self.build = core.ModelBuild([r for r in map(self._export, self._candidates) if r is not None])
+            self._next = len(self._candidates)
             self.build.wait()
             self.poll_build()
+        else:
+            # The BREP export reads the document, so it runs here, on the GUI thread: a few
+            # parts per poll_build() (EXPORT_BUDGET_S), never all at once.
+            self.build = core.ModelBuild([], open=True)
+            self._export_more()
+
+    EXPORT_BUDGET_S = 0.015   # BREP export per poll_build() (~4 ms for 200 faces, ~45 ms for 1600)
+
+    def _export(self, obj):
+        """The core's request for obj, or None (named in the report view) if its shape
+        cannot be exported."""
+        try:
+            shape = obj.Shape
+            request = part_request(obj, self.default_density)
+        except Exception as e:
+            _warn(self.messages, "skipping %s: its shape cannot be exported: %s" % (obj.Label, e))
+            return None
+        self._requested.append((obj, shape))
+        return request
+
+    def _export_more(self):
+        """Hands the next candidates to the open build, within EXPORT_BUDGET_S (at least one)."""
+        import time
+        start = time.monotonic()
+        while self._next < len(self._candidates):
+            request = self._export(self._candidates[self._next])
+            self._next += 1
+            if request is not None:
+                self.build.add(request)
+            if time.monotonic() - start > self.EXPORT_BUDGET_S:
+                break
+        if self._next == len(self._candidates):
+            self.build.close()
 
     # --- model build ------------------------------------------------------------------
     @property
@@ -241,7 +276,8 @@ class HapticSession:
             n = len(self._candidates)
             return (n, n, "")
         p = self.build.progress()
-        return (p["done"], p["total"], p["current"])
+        failed_exports = self._next - len(self._requested)
+        return (p["done"] + failed_exports, len(self._candidates), p["current"])
 
     def poll_build(self):
         """GUI timer: True once the build is over (built, or cancelled). The first call that
@@ -251,6 +287,8 @@ class HapticSession:
             drain()
         if self.build is None:
             return True
+        if self._next < len(self._candidates):
+            self._export_more()
         if not self.build.progress()["finished"]:
             return False
         build, self.build = self.build, None
@@ -261,8 +299,9 @@ class HapticSession:
             _warn(self.messages, "skipping %s: %s" % (name, error))
         for request, index in self.core.add_built(build):
             assert index == len(self.objects)
-            self.objects.append(self._candidates[request])
-            self.shapes.append(self._candidate_shapes[request])
+            obj, shape = self._requested[request]
+            self.objects.append(obj)
+            self.shapes.append(shape)
             self.rebuilt.append(0)
         return True
 

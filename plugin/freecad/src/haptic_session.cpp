@@ -42,7 +42,8 @@ BuiltPart buildPart(const PartRequest& request) {
 
 // --- ModelBuild -------------------------------------------------------------------------
 
-ModelBuild::ModelBuild(std::vector<PartRequest> requests) : requests_(std::move(requests)) {
+ModelBuild::ModelBuild(std::vector<PartRequest> requests, bool open)
+    : requests_(std::move(requests)), closed_(!open) {
   progress_.total = requests_.size();
   worker_ = std::thread([this] { run(); });
 }
@@ -52,12 +53,28 @@ ModelBuild::~ModelBuild() {
   if (worker_.joinable()) worker_.join();
 }
 
+void ModelBuild::add(PartRequest request) {
+  std::lock_guard lock(mutex_);
+  if (closed_ || cancel_.load(std::memory_order_acquire)) throw std::logic_error("the model build takes no more parts");
+  requests_.push_back(std::move(request));
+  progress_.total = requests_.size();
+  more_.notify_all();
+}
+
+void ModelBuild::close() {
+  std::lock_guard lock(mutex_);
+  closed_ = true;
+  more_.notify_all();
+}
+
 void ModelBuild::run() noexcept {
-  for (std::size_t i = 0; i < requests_.size(); ++i) {
-    if (cancel_.load(std::memory_order_acquire)) break;
-    const PartRequest& request = requests_[i];
+  for (std::size_t i = 0;; ++i) {
+    PartRequest request;
     {
-      std::lock_guard lock(mutex_);
+      std::unique_lock lock(mutex_);
+      more_.wait(lock, [&] { return cancel_.load(std::memory_order_acquire) || i < requests_.size() || closed_; });
+      if (cancel_.load(std::memory_order_acquire) || i >= requests_.size()) break;
+      request = std::move(requests_[i]);  // the worker's now; add() may grow the vector
       progress_.current = request.name;
     }
     Outcome outcome;
@@ -77,7 +94,7 @@ void ModelBuild::run() noexcept {
   }
   std::lock_guard lock(mutex_);
   progress_.current.clear();
-  progress_.cancelled = cancel_.load(std::memory_order_acquire) && progress_.done < progress_.total;
+  progress_.cancelled = cancel_.load(std::memory_order_acquire) && (progress_.done < progress_.total || !closed_);
   progress_.finished = true;
   done_.notify_all();
 }
@@ -87,7 +104,11 @@ ModelBuild::Progress ModelBuild::progress() const {
   return progress_;
 }
 
-void ModelBuild::cancel() noexcept { cancel_.store(true, std::memory_order_release); }
+void ModelBuild::cancel() noexcept {
+  std::lock_guard lock(mutex_);
+  cancel_.store(true, std::memory_order_release);
+  more_.notify_all();
+}
 
 bool ModelBuild::wait(double timeout_s) {
   std::unique_lock lock(mutex_);

@@ -78,8 +78,13 @@ class ModelBuild {
     std::string error;
   };
 
-  explicit ModelBuild(std::vector<PartRequest> requests);
+  // Starts building `requests` at once. open: more may come with add() until close() (the
+  // GUI hands parts over a few per timer tick); the build finishes only once closed.
+  explicit ModelBuild(std::vector<PartRequest> requests, bool open = false);
   ~ModelBuild();  // cancels and joins
+  // An open build: one more part (throws std::logic_error once closed or cancelled).
+  void add(PartRequest request);
+  void close();
   ModelBuild(const ModelBuild&) = delete;
   ModelBuild& operator=(const ModelBuild&) = delete;
 
@@ -95,9 +100,10 @@ class ModelBuild {
  private:
   void run() noexcept;
 
-  std::vector<PartRequest> requests_;
+  std::vector<PartRequest> requests_;  // under mutex_ (add() appends)
+  bool closed_ = true;
   mutable std::mutex mutex_;
-  std::condition_variable done_;
+  std::condition_variable done_, more_;
   Progress progress_;
   std::vector<Outcome> outcomes_;
   std::atomic<bool> cancel_{false};

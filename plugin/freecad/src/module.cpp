@@ -82,14 +82,18 @@ PYBIND11_MODULE(_hapticgrasp, m) {
 
   py::class_<freecad::ModelBuild>(m, "ModelBuild",
                                   "Builds part models on a worker thread (the GIL is not held by it); poll progress().")
-      .def(py::init([](const py::list& parts) {
+      .def(py::init([](const py::list& parts, bool open) {
              std::vector<freecad::PartRequest> requests;
              for (const auto& item : parts) requests.push_back(partRequest(item));
-             return std::make_unique<freecad::ModelBuild>(std::move(requests));
+             return std::make_unique<freecad::ModelBuild>(std::move(requests), open);
            }),
-           py::arg("parts"),
+           py::arg("parts"), py::arg("open") = false,
            "Starts building at once. parts: [(name, brep, base_mm, quaternion, density[, mass])], BREP text in mm "
-           "without the Placement.")
+           "without the Placement. open=True: more parts come with add() until close().")
+      .def(
+          "add", [](freecad::ModelBuild& b, const py::tuple& part) { b.add(partRequest(part)); }, py::arg("part"),
+          "An open build: one more part, (name, brep, base_mm, quaternion, density[, mass]).")
+      .def("close", &freecad::ModelBuild::close, "An open build takes no more parts; it finishes when they are built.")
       .def(
           "progress",
           [](const freecad::ModelBuild& b) {

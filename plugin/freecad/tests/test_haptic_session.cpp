@@ -110,6 +110,27 @@ TEST(ModelBuild, CancelStopsAfterThePartInProgressAndAddsNothing) {
   EXPECT_EQ(session.partCount(), 0u);
 }
 
+TEST(ModelBuild, AnOpenBuildTakesPartsUntilClosed) {
+  ModelBuild build({}, true);
+  build.add({"Block0", blockBrep(), Placement{}, geometry::MassSpec::density(1000)});
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  EXPECT_FALSE(build.progress().finished);  // open: waits for more
+  build.add({"Block1", blockBrep(), Placement{{0, 400, 0}, {0, 0, 0, 1}}, geometry::MassSpec::density(1000)});
+  build.close();
+  EXPECT_THROW(build.add({"Late", blockBrep(), Placement{}, geometry::MassSpec::density(1000)}), std::logic_error);
+  ASSERT_TRUE(build.wait(60));
+  EXPECT_EQ(build.progress().done, 2u);
+  EXPECT_EQ(build.progress().total, 2u);
+  EXPECT_FALSE(build.progress().cancelled);
+  Session session;
+  EXPECT_EQ(session.addBuilt(build).size(), 2u);
+  // Cancelling an open build that waits for parts ends it at once, cancelled.
+  ModelBuild open({}, true);
+  open.cancel();
+  ASSERT_TRUE(open.wait(5));
+  EXPECT_TRUE(open.progress().cancelled);
+}
+
 TEST(HapticSession, ReplacePartAndRestartMakeTheNewShapeFelt) {
   Session session;
   session.addPart("Block", blockBrep(), Placement{{-500, 0, 0}, {0, 0, 0, 1}}, geometry::MassSpec::density(1000));
