@@ -43,8 +43,8 @@ class _HapticGraspController:
     @classmethod
     def start(cls):
         """Start: the part models are built on the core's worker thread while the timer
-        shows the progress in the task panel (Cancel there, Stop or Esc cancels the build);
-        the servo loop starts when the build has finished."""
+        shows the progress in the task panel (its Cancel, Stop or closing the panel cancels
+        the build); the servo loop starts when the build has finished."""
         from PySide2 import QtCore
         doc = App.ActiveDocument
         if doc is None:
@@ -337,8 +337,10 @@ class _MarkGraspableCommand:
         return App.ActiveDocument is not None and bool(Gui.Selection.getSelection())
 
     def Activated(self):
-        objects = [o for o in Gui.Selection.getSelection() if getattr(o, "Shape", None) is not None]
+        objects = [o for o in Gui.Selection.getSelection() if hs.is_part_candidate(o)]
         if not objects:
+            App.Console.PrintWarning("HapticGrasp: select parts to mark (solids or PartDesign Bodies, "
+                                     "not App::Part containers or Body features)\n")
             return
         on = not all(hs.is_graspable(o) for o in objects)
         doc = objects[0].Document
@@ -347,6 +349,7 @@ class _MarkGraspableCommand:
         doc.commitTransaction()
         App.Console.PrintMessage("HapticGrasp: %s %s\n" % ("marked graspable:" if on else "unmarked:",
                                                             ", ".join(o.Label for o in objects)))
+
 
 _registered = False
 

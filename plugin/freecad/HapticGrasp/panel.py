@@ -183,7 +183,7 @@ class HapticTaskPanel:
     def show_rebuild(self, session):
         """A part edited while running: its model being rebuilt (no Cancel: Stop stops)."""
         if session is None or not session.rebuilds:
-            if not self.building and self.build_label.isVisible():
+            if not self.building and not self.build_label.isHidden():
                 self.build_label.setVisible(False)
             return
         names = ", ".join(label for _build, label in session.rebuilds.values())

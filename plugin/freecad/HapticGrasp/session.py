@@ -136,7 +136,7 @@ def set_graspable(objects, on=True):
         setattr(obj, GRASPABLE_PROPERTY, bool(on))
 
 
-def _is_part_candidate(obj):
+def is_part_candidate(obj):
     """Objects that may stand for a part: not containers (App::Part: its Shape is the
     compound of its children, which are handed in themselves), not the features inside a
     PartDesign Body (the Body stands for them)."""
@@ -152,7 +152,7 @@ def collect_solids(doc, messages):
     marked (HapticGraspable), else every visible object with a solid shape. Anything else
     asked for (a visible unmarked object with a shape, or a marked one) that is not a solid
     is skipped with one report-view line; so is a part marked graspable but hidden."""
-    candidates = [o for o in doc.Objects if _is_part_candidate(o)]
+    candidates = [o for o in doc.Objects if is_part_candidate(o)]
     marked = [o for o in candidates if is_graspable(o)]
     found = []
     for obj in marked or candidates:
