@@ -469,19 +469,25 @@ class PartsIntoTheSession(unittest.TestCase):
         self.assertEqual(s.messages, ["Cylinder moved in the document: haptics restarted with the parts where "
                                       "the document has them"])
 
-    def test_a_part_inside_an_app_part_moves_in_global_coordinates_and_one_undo_restores_it(self):
+    def test_a_part_inside_nested_app_parts_moves_in_global_coordinates_and_one_undo_restores_it(self):
+        # Nested: Outer (translated, turned about z) holds Assembly (translated, turned about
+        # a slanted axis), which holds the cylinder.
+        outer = self.doc.addObject("App::Part", "Outer")
+        outer.Placement = App.Placement(App.Vector(-30, 60, 10), App.Rotation(App.Vector(0, 0, 1), 25))
         assembly = self.doc.addObject("App::Part", "Assembly")
         assembly.Placement = App.Placement(App.Vector(150, -80, 40), App.Rotation(App.Vector(1, 1, 1), 40))
+        outer.addObject(assembly)
         self.doc.removeObject("Block")
         assembly.addObject(self.cylinder)
+        container = outer.Placement.multiply(assembly.Placement)
         wanted = App.Placement(App.Vector(400, 0, 300), App.Rotation(App.Vector(1, 0, 0), -90))
-        self.cylinder.Placement = assembly.Placement.inverse().multiply(wanted)
+        self.cylinder.Placement = container.inverse().multiply(wanted)
         self.doc.recompute()
         self.doc.clearUndos()
         self.assertTrue(hs.same_placement(self.cylinder.getGlobalPlacement(), wanted, 1e-9))
         local_before = App.Placement(self.cylinder.Placement)
         self.session = s = hs.HapticSession(self.doc)
-        self.assertEqual([o.Name for o in s.objects], ["Cylinder"])   # the App::Part is no part
+        self.assertEqual([o.Name for o in s.objects], ["Cylinder"])   # the App::Parts are no parts
         self.assertAlmostEqual(s.core.part_info(0)["mass_kg"], 2.0, places=6)
         # The core has the global placement.
         self.assertTrue(hs.same_placement(hs.to_placement(s.core.snapshot()["placements"][0]), wanted, 1e-6))
@@ -502,7 +508,8 @@ class PartsIntoTheSession(unittest.TestCase):
         self.assertAlmostEqual(moved.z, 0.0, delta=0.5)
         self.assertTrue(after.Rotation.isSame(wanted.Rotation, 1e-3))
         # Written back relative to the container, which did not move.
-        self.assertTrue(hs.same_placement(assembly.Placement.multiply(self.cylinder.Placement), after, 1e-9))
+        self.assertTrue(hs.same_placement(container.multiply(self.cylinder.Placement), after, 1e-9))
+        self.assertTrue(hs.same_placement(outer.Placement.multiply(assembly.Placement), container, 1e-12))
         self.assertGreater((self.cylinder.Placement.Base - local_before.Base).Length, 50.0)
         self.assertEqual(self.doc.UndoNames, ["Haptic move Cylinder"])
         self.doc.undo()
