@@ -279,6 +279,292 @@ class HapticGraspDocument(unittest.TestCase):
             core.part_info("DBRep_DrawableShape\nCASCADE Topology V1, (c) Matra-Datavision\nLocations 3\n")
 
 
+class PartsIntoTheSession(unittest.TestCase):
+    """How parts get into a session: models built on the core's worker thread with
+    progress and cancel, a bad part skipped by name, an edited part rebuilt mid-session,
+    parts inside App::Part containers, and parts marked graspable."""
+
+    setUp = HapticGraspDocument.setUp
+    tearDown = HapticGraspDocument.tearDown
+
+    def add_blocks(self, n):
+        for i in range(n):
+            extra = self.doc.addObject("Part::Feature", "Extra%d" % i)
+            extra.Shape = read_part("block")
+            extra.Placement = App.Placement(App.Vector(-500, 400 * (i + 1), 0), App.Rotation())
+
+    def test_models_are_built_off_the_calling_thread_with_progress(self):
+        self.add_blocks(4)
+        t0 = time.monotonic()
+        budget = hs.HapticSession.EXPORT_BUDGET_S
+        hs.HapticSession.EXPORT_BUDGET_S = 0.0   # one BREP export per poll
+        try:
+            s = self.session = hs.HapticSession(self.doc, wait=False)
+            returned_after = time.monotonic() - t0
+            first = s.build_progress()
+            self.assertEqual(len(s._requested), 1)   # the others are exported by later polls
+            s.poll_build()
+            self.assertEqual(len(s._requested), 2)
+        finally:
+            hs.HapticSession.EXPORT_BUDGET_S = budget
+        polls, seen, names = 0, [], set()
+        deadline = time.monotonic() + 120
+        while not s.poll_build() and time.monotonic() < deadline:
+            done, total, current = s.build_progress()
+            polls += 1
+            if not seen or seen[-1] != done:
+                seen.append(done)
+            if current:
+                names.add(current)
+            self.assertFalse(s.ready)
+            time.sleep(0.005)   # the calling (GUI) thread keeps running meanwhile
+        build_s = time.monotonic() - t0
+        print("build of 6 parts: constructor returned after %.3f s (progress %s), built in %.2f s, %d polls, "
+              "done %s, names %s" % (returned_after, first, build_s, polls, seen, sorted(names)))
+        self.assertTrue(s.ready)
+        self.assertEqual(first[1], 6)
+        self.assertLessEqual(first[0], 1)                # the constructor did not wait
+        self.assertLessEqual(seen[0], 2)
+        self.assertGreaterEqual(len(seen), 3, seen)     # progress moved across polls
+        self.assertEqual(seen, sorted(seen))
+        self.assertEqual(s.build_progress(), (6, 6, ""))
+        self.assertGreater(polls, 10)
+        self.assertIn("Extra0", names)
+        self.assertEqual(s.core.part_count(), 6)
+        self.assertEqual([o.Name for o in s.objects], ["Cylinder", "Block", "Extra0", "Extra1", "Extra2", "Extra3"])
+        self.assertEqual(s.messages, [])
+
+    def test_cancel_leaves_no_half_built_session(self):
+        self.add_blocks(4)
+        s = self.session = hs.HapticSession(self.doc, wait=False)
+        deadline = time.monotonic() + 60
+        while s.build_progress()[0] < 1 and time.monotonic() < deadline:
+            time.sleep(0.002)
+        done = s.build_progress()[0]
+        s.cancel_build()
+        self.assertGreaterEqual(done, 1)
+        self.assertTrue(s.cancelled)
+        self.assertFalse(s.ready)
+        self.assertTrue(s.poll_build())
+        self.assertEqual(s.objects, [])
+        self.assertEqual(s.core.part_count(), 0)
+        with self.assertRaises(RuntimeError):
+            s.start()
+        self.assertEqual(len(s.messages), 1, s.messages)
+        self.assertIn("cancelled", s.messages[0])
+        # The worker finishes the part in progress and stops: nothing more is built.
+        while hs.drain() and time.monotonic() < deadline:
+            time.sleep(0.01)
+        self.assertEqual(hs.drain(), 0)
+        self.assertEqual(s.core.part_count(), 0)
+
+    def test_a_bad_part_is_skipped_with_its_name_and_the_others_are_kept(self):
+        box = Part.makeBox(40, 40, 40)
+        broken = self.doc.addObject("Part::Feature", "Broken")
+        broken.Label = "Open box"
+        broken.Shape = Part.Solid(Part.Shell(box.Faces[:-1]))   # a "solid" with a face missing
+        broken.Placement = App.Placement(App.Vector(0, -400, 0), App.Rotation())
+        self.assertEqual(broken.Shape.ShapeType, "Solid")
+        s = self.session = hs.HapticSession(self.doc, wait=False)
+        self.assertTrue(s.build.wait(120))
+        self.assertTrue(s.poll_build())
+        self.assertEqual([o.Name for o in s.objects], ["Cylinder", "Block"])
+        self.assertEqual(s.core.part_count(), 2)
+        self.assertEqual(len(s.messages), 1, s.messages)
+        print("bad part: %s" % s.messages[0])
+        self.assertTrue(s.messages[0].startswith("skipping Open box: "), s.messages[0])
+
+    def test_an_edited_part_is_rebuilt_mid_session_and_felt_at_its_new_surface(self):
+        tube = self.doc.addObject("Part::Cylinder", "Tube")
+        tube.Radius, tube.Height = 20.0, 50.0
+        tube.Placement = App.Placement(App.Vector(0, 500, 0), App.Rotation())
+        self.doc.recompute()
+        s = self.session = hs.HapticSession(self.doc)
+        names = [o.Name for o in s.objects]
+        self.assertEqual(names, ["Cylinder", "Block", "Tube"])
+        index = names.index("Tube")
+        self.assertAlmostEqual(s.core.part_info(index)["bounds_mm"][1][0], 20.0, delta=1e-6)
+        # The index fingertip 25 mm from the axis: outside the 20 mm tube, inside a 30 mm one.
+        hand = ((25.0, 500.0, 25.0), (-80.0, 500.0, 25.0), (-30.0, 500.0, 150.0))
+        s.use_hand_input(hold_s=0.5)
+        s.start()
+
+        def feed(seconds, until=None):
+            end = time.monotonic() + seconds
+            snap = None
+            while time.monotonic() < end:
+                s.set_hand(*hand)
+                snap = s.tick()
+                if until is not None and until():
+                    break
+                time.sleep(0.01)
+            return snap
+
+        snap = feed(0.4)
+        self.assertEqual(snap["state"], "FREE")
+        self.assertAlmostEqual(snap["forces"][0][0], 0.0, delta=1e-9)
+        tube.Radius = 30.0
+        self.doc.recompute()
+        feed(60.0, until=lambda: s.rebuilt[index] > 0)
+        self.assertEqual(s.rebuilt[index], 1, s.messages)
+        self.assertTrue(s.running)
+        snap = feed(0.4)
+        print("after the edit: %s, index force %s N; %s" % (snap["state"], snap["forces"][0], s.messages))
+        self.assertEqual(snap["state"], "INDEX CONTACT")
+        self.assertGreater(snap["forces"][0][0], 0.1)   # pushed out of the tube, along +x
+        self.assertAlmostEqual(s.core.part_info(index)["bounds_mm"][1][0], 30.0, delta=1e-6)
+        self.assertAlmostEqual(s.core.part_info(index)["volume_mm3"], tube.Shape.Volume, delta=1e-3 * tube.Shape.Volume)
+        # Untouched parts were not rebuilt; one restart swapped the model in, and said so.
+        self.assertEqual(s.rebuilt, [0, 0, 1])
+        self.assertEqual(s.restarts, 1)
+        self.assertEqual(s.messages, ["Tube changed: rebuilding its model",
+                                      "Tube rebuilt: haptics restarted with the new shape"])
+        s.stop()
+
+    def test_an_edited_partdesign_feature_rebuilds_its_body_only(self):
+        body = self.doc.addObject("PartDesign::Body", "Body")
+        box = self.doc.addObject("PartDesign::AdditiveBox", "Pad")
+        body.addObject(box)
+        box.Length, box.Width, box.Height = 40.0, 30.0, 20.0
+        body.Placement = App.Placement(App.Vector(0, 700, 0), App.Rotation(App.Vector(0, 0, 1), 30))
+        self.doc.recompute()
+        s = self.session = hs.HapticSession(self.doc)
+        self.assertEqual([o.Name for o in s.objects], ["Cylinder", "Block", "Body"])
+        self.assertAlmostEqual(s.core.part_info(2)["bounds_mm"][1][0], 40.0, delta=1e-6)
+        s.use_hand_input(hold_s=0.5)
+        far = ((0.0, -900.0, 0.0), (0.0, -950.0, 0.0), (0.0, -925.0, 100.0))
+        s.start()
+        box.Length = 70.0   # the feature is edited, the Body recomputed
+        self.doc.recompute()
+        deadline = time.monotonic() + 60
+        while s.rebuilt[2] == 0 and time.monotonic() < deadline:
+            s.set_hand(*far)
+            s.tick()
+            time.sleep(0.01)
+        s.stop()
+        self.assertEqual(s.rebuilt, [0, 0, 1])
+        self.assertEqual(s.restarts, 1)
+        self.assertAlmostEqual(s.core.part_info(2)["bounds_mm"][1][0], 70.0, delta=1e-6)
+        self.assertEqual(s.messages, ["Body changed: rebuilding its model",
+                                      "Body rebuilt: haptics restarted with the new shape"])
+
+    def test_an_undo_while_running_puts_the_part_back_in_the_core_too(self):
+        before = App.Placement(self.cylinder.Placement)
+        s = self.session = HapticGraspDocument.make_session(self)
+        s.start()
+        run(s, s.core.script_duration() + 0.2)
+        self.assertTrue(s.running)   # the script is over, the servo loop runs on
+        self.assertEqual((s.moves, s.restarts), (1, 0))
+        moved = App.Placement(self.cylinder.Placement)
+        self.assertAlmostEqual((moved.Base - before.Base).y, 100.0, delta=0.5)
+        self.doc.undo()
+        self.assertTrue(hs.same_placement(self.cylinder.Placement, before))
+        s.tick()   # sees the document's placement differ from the core's: restart
+        self.assertEqual(s.restarts, 1)
+        snap = s.tick()
+        s.stop()
+        self.assertTrue(hs.same_placement(hs.to_placement(snap["placements"][0]), before, 1e-6))
+        self.assertTrue(hs.same_placement(self.cylinder.Placement, before))
+        self.assertEqual(s.rebuilt, [0, 0])
+        self.assertEqual(s.messages, ["Cylinder moved in the document: haptics restarted with the parts where "
+                                      "the document has them"])
+
+    def test_a_part_inside_nested_app_parts_moves_in_global_coordinates_and_one_undo_restores_it(self):
+        # Nested: Outer (translated, turned about z) holds Assembly (translated, turned about
+        # a slanted axis), which holds the cylinder.
+        outer = self.doc.addObject("App::Part", "Outer")
+        outer.Placement = App.Placement(App.Vector(-30, 60, 10), App.Rotation(App.Vector(0, 0, 1), 25))
+        assembly = self.doc.addObject("App::Part", "Assembly")
+        assembly.Placement = App.Placement(App.Vector(150, -80, 40), App.Rotation(App.Vector(1, 1, 1), 40))
+        outer.addObject(assembly)
+        self.doc.removeObject("Block")
+        assembly.addObject(self.cylinder)
+        container = outer.Placement.multiply(assembly.Placement)
+        wanted = App.Placement(App.Vector(400, 0, 300), App.Rotation(App.Vector(1, 0, 0), -90))
+        self.cylinder.Placement = container.inverse().multiply(wanted)
+        self.doc.recompute()
+        self.doc.clearUndos()
+        self.assertTrue(hs.same_placement(self.cylinder.getGlobalPlacement(), wanted, 1e-9))
+        local_before = App.Placement(self.cylinder.Placement)
+        self.session = s = hs.HapticSession(self.doc)
+        self.assertEqual([o.Name for o in s.objects], ["Cylinder"])   # the App::Parts are no parts
+        self.assertAlmostEqual(s.core.part_info(0)["mass_kg"], 2.0, places=6)
+        # The core has the global placement.
+        self.assertTrue(hs.same_placement(hs.to_placement(s.core.snapshot()["placements"][0]), wanted, 1e-6))
+        keys, frame = hs.demo_script(self.cylinder)   # carries the hand (0, 100, 0) mm, global
+        s.use_hand_script(keys, frame)
+        s.start()
+        states = run(s, s.core.script_duration() + 0.2)
+        s.stop()
+        self.assertIn("MANIPULATE", states)
+        self.assertEqual(s.moves, 1)
+        self.assertEqual(s.restarts, 0)   # the core and the document agreed all along
+        after = self.cylinder.getGlobalPlacement()
+        moved = after.Base - wanted.Base
+        print("in App::Part: moved by (%.3f, %.3f, %.3f) mm globally; local %s -> %s"
+              % (moved.x, moved.y, moved.z, local_before, self.cylinder.Placement))
+        self.assertAlmostEqual(moved.x, 0.0, delta=0.5)
+        self.assertAlmostEqual(moved.y, 100.0, delta=0.5)
+        self.assertAlmostEqual(moved.z, 0.0, delta=0.5)
+        self.assertTrue(after.Rotation.isSame(wanted.Rotation, 1e-3))
+        # Written back relative to the container, which did not move.
+        self.assertTrue(hs.same_placement(container.multiply(self.cylinder.Placement), after, 1e-9))
+        self.assertTrue(hs.same_placement(outer.Placement.multiply(assembly.Placement), container, 1e-12))
+        self.assertGreater((self.cylinder.Placement.Base - local_before.Base).Length, 50.0)
+        self.assertEqual(self.doc.UndoNames, ["Haptic move Cylinder"])
+        self.doc.undo()
+        self.assertTrue(hs.same_placement(self.cylinder.Placement, local_before, 1e-9), self.cylinder.Placement)
+        self.assertTrue(hs.same_placement(self.cylinder.getGlobalPlacement(), wanted, 1e-6))
+
+    def test_only_marked_parts_are_handed_in_once_any_is_marked(self):
+        def handed():
+            messages = []
+            return [o.Name for o in hs.collect_solids(self.doc, messages)], messages
+
+        self.assertEqual(handed(), (["Cylinder", "Block"], []))
+        hs.set_graspable([self.block])
+        self.assertTrue(hs.is_graspable(self.block))
+        self.assertFalse(hs.is_graspable(self.cylinder))
+        self.assertEqual(handed(), (["Block"], []))
+        self.session = s = hs.HapticSession(self.doc)
+        self.assertEqual([o.Name for o in s.objects], ["Block"])
+        self.assertEqual(s.core.part_count(), 1)
+        # A marked part that is hidden, or not a solid, is named in the report view.
+        sheet = self.doc.addObject("Part::Feature", "Sheet")
+        sheet.Shape = Part.makePlane(100, 100)
+        hidden = self.doc.addObject("Part::Feature", "Hidden")
+        hidden.Shape = Part.makeBox(10, 10, 10)
+        hidden.Visibility = False
+        hs.set_graspable([sheet, hidden])
+        names, messages = handed()
+        self.assertEqual(names, ["Block"])
+        self.assertEqual(len(messages), 2, messages)
+        self.assertIn("Sheet: not a solid", messages[0])
+        self.assertIn("Hidden: marked graspable but hidden", messages[1])
+        # Unmarked again: every visible solid.
+        hs.set_graspable([self.block, sheet, hidden], False)
+        names, messages = handed()
+        self.assertEqual(names, ["Cylinder", "Block"])
+        self.assertEqual(len(messages), 1, messages)   # the sheet, visible, not a solid
+
+    def test_containers_and_bodies_hand_in_each_solid_once(self):
+        body = self.doc.addObject("PartDesign::Body", "Body")
+        box = self.doc.addObject("PartDesign::AdditiveBox", "Box")
+        body.addObject(box)
+        body.Placement = App.Placement(App.Vector(0, 700, 0), App.Rotation())
+        shown = self.doc.addObject("App::Part", "Shown")
+        shown.addObject(body)
+        hidden = self.doc.addObject("App::Part", "HiddenAssembly")
+        inner = self.doc.addObject("Part::Box", "Inner")
+        hidden.addObject(inner)
+        hidden.Visibility = False
+        self.doc.recompute()
+        messages = []
+        names = [o.Name for o in hs.collect_solids(self.doc, messages)]
+        self.assertEqual(names, ["Cylinder", "Block", "Body"])   # not the Box feature, not the App::Parts
+        self.assertEqual(messages, [])
+
+
 class ForceParameters(unittest.TestCase):
     """The force parameters of the preferences page reach the core at start()."""
 

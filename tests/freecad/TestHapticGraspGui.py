@@ -133,6 +133,87 @@ class HapticGraspGui(unittest.TestCase):
         self.assertTrue(hs.same_placement(cylinder.Placement, before))
         App.closeDocument(doc.Name)
 
+    def test_start_builds_the_models_with_a_progress_bar_and_cancel(self):
+        from PySide2 import QtWidgets
+        Gui.activateWorkbench("HapticGraspWorkbench")
+        doc = App.newDocument("HapticGraspBuild")
+        for i in range(5):
+            block = doc.addObject("Part::Feature", "Block%d" % i)
+            shape = Part.Shape()
+            shape.importBrep(os.path.join(RESOURCES, "parts", "block.brep"))
+            block.Shape = shape
+            block.Placement = App.Placement(App.Vector(0, 400 * i, 0), App.Rotation())
+        doc.recompute()
+        controller = hgui._HapticGraspController
+        seen = {"ticks": 0, "values": [], "labels": set()}
+
+        def count():
+            seen["ticks"] += 1
+
+        with _ErrorLog() as log:
+            Gui.runCommand("HapticGrasp_Start")
+            session, panel = controller.session, controller.panel
+            self.assertIsNotNone(session)
+            self.assertFalse(session.ready)
+            self.assertIsNotNone(panel)
+            controller.timer.timeout.connect(count)
+            self.assertFalse(panel.build_bar.isHidden())
+            self.assertFalse(panel.start_button.isEnabled())
+            self.assertTrue(panel.cancel_button.isEnabled())
+            deadline = time.monotonic() + 120
+            while panel.build_bar.value() < 2 and time.monotonic() < deadline:
+                QtWidgets.QApplication.processEvents()   # the GUI thread stays free
+                seen["labels"].add(panel.build_label.text())
+                if not seen["values"] or seen["values"][-1] != panel.build_bar.value():
+                    seen["values"].append(panel.build_bar.value())
+                time.sleep(0.005)
+            self.assertFalse(session.ready)
+            panel.cancel_button.click()
+            QtWidgets.QApplication.processEvents()
+            self.assertIsNone(controller.session)
+            self.assertIsNone(controller.timer)
+            self.assertTrue(session.cancelled)
+            self.assertEqual(session.core.part_count(), 0)
+            self.assertTrue(panel.build_bar.isHidden())
+            self.assertTrue(panel.start_button.isEnabled())
+            while hs.drain() and time.monotonic() < deadline:   # the worker ends its part
+                QtWidgets.QApplication.processEvents()
+                time.sleep(0.01)
+        App.Console.PrintMessage("HapticGrasp GUI build: %d timer ticks while building, bar %s, labels %s\n"
+                                 % (seen["ticks"], seen["values"], sorted(seen["labels"])))
+        self.assertEqual(log.errors, [])
+        self.assertGreaterEqual(seen["ticks"], 5)    # the QTimer kept ticking during the build
+        self.assertEqual(seen["values"][0], 0)
+        self.assertGreaterEqual(seen["values"][-1], 2)
+        self.assertTrue(any(label.startswith("Building Block") for label in seen["labels"]), seen["labels"])
+        panel.reject()
+        QtWidgets.QApplication.processEvents()
+        App.closeDocument(doc.Name)
+
+    def test_mark_graspable_command_toggles_the_selection_in_one_undo_step(self):
+        Gui.activateWorkbench("HapticGraspWorkbench")
+        doc = App.newDocument("HapticGraspMark")
+        doc.UndoMode = 1
+        a = doc.addObject("Part::Box", "A")
+        b = doc.addObject("Part::Box", "B")
+        b.Placement.Base = App.Vector(50, 0, 0)
+        doc.recompute()
+        doc.clearUndos()
+        try:
+            Gui.Selection.clearSelection()
+            Gui.Selection.addSelection(a)
+            Gui.runCommand("HapticGrasp_MarkGraspable")
+            self.assertTrue(hs.is_graspable(a))
+            self.assertFalse(hs.is_graspable(b))
+            self.assertEqual([o.Name for o in hs.collect_solids(doc, [])], ["A"])
+            self.assertEqual(doc.UndoNames, ["Mark graspable"])
+            Gui.runCommand("HapticGrasp_MarkGraspable")   # all selected marked: unmark
+            self.assertFalse(hs.is_graspable(a))
+            self.assertEqual([o.Name for o in hs.collect_solids(doc, [])], ["A", "B"])
+        finally:
+            Gui.Selection.clearSelection()
+            App.closeDocument(doc.Name)
+
     def test_transition_sounds(self):
         from HapticGrasp import sounds as hsounds
         steps = ["FREE", "INDEX CONTACT", "THUMB CONTACT", "GRASP", "MANIPULATE", "GRASP", "FREE"]

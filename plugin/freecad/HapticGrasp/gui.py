@@ -20,6 +20,7 @@ class _HapticGraspController:
     hand = None       # MouseHand while the mouse-and-keyboard device runs
     hand_clock = None
     events = None     # MouseEvents (Coin callbacks on the 3D view) while it runs
+    selected = []     # the selection at Start (the demo hand's target)
 
     @classmethod
     def show_panel(cls):
@@ -41,17 +42,46 @@ class _HapticGraspController:
 
     @classmethod
     def start(cls):
+        """Start: the part models are built on the core's worker thread while the timer
+        shows the progress in the task panel (its Cancel, Stop or closing the panel cancels
+        the build); the servo loop starts when the build has finished."""
         from PySide2 import QtCore
         doc = App.ActiveDocument
         if doc is None:
             App.Console.PrintError("HapticGrasp: no active document\n")
             return
         cls.stop()
-        session = hs.HapticSession(doc)
+        cls.selected = list(Gui.Selection.getSelection())   # the demo hand's target, if a part
+        session = hs.HapticSession(doc, wait=False)
+        cls.session = session
+        cls.show_panel()
+        if cls.panel is not None:
+            cls.panel.set_building(True)
+            cls.panel.show_build(*session.build_progress())
+        cls.timer = QtCore.QTimer()
+        cls.timer.setInterval(20)  # 50 Hz: build progress, then the session's tick
+        cls.timer.timeout.connect(cls.tick)
+        cls.timer.start()
+        App.Console.PrintMessage("HapticGrasp: building the models of %d part(s)\n" % session.build_progress()[1])
+
+    @classmethod
+    def cancel_build(cls):
+        """The panel's Cancel while building: nothing is kept, haptics do not start."""
+        if cls.session is not None and not cls.session.ready:
+            cls.session.cancel_build()
+        cls.stop()
+
+    @classmethod
+    def _launch(cls):
+        """The build has finished: choose the device and start the servo loop."""
+        session = cls.session
+        if cls.panel is not None:
+            cls.panel.set_building(False)
         if not session.objects:
             App.Console.PrintError("HapticGrasp: no visible solid to grasp\n")
+            cls.stop()
             return
-        selected = [o for o in Gui.Selection.getSelection() if o in session.objects]
+        selected = [o for o in getattr(cls, "selected", []) if o in session.objects]
         target = selected[0] if selected else session.objects[0]
         view = getattr(Gui.ActiveDocument, "ActiveView", None) if Gui.ActiveDocument else None
         if cls.device == "mouse" and view is not None and hasattr(view, "addEventCallbackPivy"):
@@ -75,7 +105,6 @@ class _HapticGraspController:
             return
         if cls.hand is not None:   # the hand input device exists once started
             session.set_hand(*cls.hand.tick(0.0))
-        cls.session = session
         cls.last_state = "FREE"
         if cls.sounds is None:
             cls.sounds = hsounds.SoundBoard()
@@ -89,15 +118,22 @@ class _HapticGraspController:
             except Exception as e:  # no pivy: run without the overlay
                 App.Console.PrintWarning("HapticGrasp: no 3D overlay: %s\n" % e)
                 cls.overlay = None
-        cls.timer = QtCore.QTimer()
-        cls.timer.setInterval(20)  # 50 Hz
-        cls.timer.timeout.connect(cls.tick)
-        cls.timer.start()
         App.Console.PrintMessage("HapticGrasp: started with %d part(s)\n" % len(session.objects))
 
     @classmethod
     def tick(cls):
         if cls.session is None:
+            return
+        if not cls.session.ready:   # still building the models
+            try:
+                finished = cls.session.poll_build()
+                if cls.panel is not None:
+                    cls.panel.show_build(*cls.session.build_progress())
+                if finished:
+                    cls._launch()
+            except Exception as e:  # never let the timer die silently
+                App.Console.PrintError("HapticGrasp: %s\n" % e)
+                cls.stop()
             return
         try:
             if cls.hand is not None:
@@ -107,6 +143,10 @@ class _HapticGraspController:
                 cls.session.set_hand(*cls.hand.tick(dt))
             snap = cls.session.tick()
             cls._show(snap)
+            if cls.panel is not None and cls.session.rebuilds:   # a part edited meanwhile
+                cls.panel.show_rebuild(cls.session)
+            elif cls.panel is not None:
+                cls.panel.show_rebuild(None)
         except Exception as e:  # never let the timer die silently
             App.Console.PrintError("HapticGrasp: %s\n" % e)
             cls.stop()
@@ -141,6 +181,9 @@ class _HapticGraspController:
         """Esc: the open manipulation is aborted (part back, no undo entry), haptics stop."""
         if cls.session is None:
             return
+        if not cls.session.ready:
+            cls.cancel_build()
+            return
         cls.session.cancel()
         cls.stop()
 
@@ -162,6 +205,8 @@ class _HapticGraspController:
                 cls.overlay = None
         if cls.panel is not None:
             cls.panel.set_running(False)
+        if cls.session is not None and not cls.session.ready and not cls.session.cancelled:
+            cls.session.cancel_build()   # Stop while building: nothing is kept
         if cls.session is not None:
             cls.session.stop()
             cls.session = None
@@ -176,7 +221,7 @@ def _mouse_hand_for(view, target):
     right = rotation.multVec(App.Vector(1, 0, 0))
     up = rotation.multVec(App.Vector(0, 1, 0))
     into = rotation.multVec(App.Vector(0, 0, -1))
-    box = target.Shape.BoundBox
+    box = hs.global_bound_box(target)
     size = box.DiagonalLength
     return MouseHand(centre_mm=box.Center + up * (0.5 * size + 20.0), grip_mm=size + 40.0,
                      min_grip_mm=0.0, rate_mm_s=40.0, right=right, up=up, view_dir=into,
@@ -279,6 +324,32 @@ class _StopCommand:
         _HapticGraspController.stop()
 
 
+class _MarkGraspableCommand:
+    """Marks the selected objects graspable (HapticGraspable = True), or unmarks them when
+    all are marked already. Once any part is marked, only marked parts are handed in."""
+
+    def GetResources(self):
+        return {"MenuText": "Mark graspable",
+                "ToolTip": "Mark the selected parts graspable (or unmark them); once any part is marked, "
+                           "haptics hand in only the marked parts"}
+
+    def IsActive(self):
+        return App.ActiveDocument is not None and bool(Gui.Selection.getSelection())
+
+    def Activated(self):
+        objects = [o for o in Gui.Selection.getSelection() if hs.is_part_candidate(o)]
+        if not objects:
+            App.Console.PrintWarning("HapticGrasp: select parts to mark (solids or PartDesign Bodies, "
+                                     "not App::Part containers or Body features)\n")
+            return
+        on = not all(hs.is_graspable(o) for o in objects)
+        doc = objects[0].Document
+        doc.openTransaction("Mark graspable" if on else "Unmark graspable")
+        hs.set_graspable(objects, on)
+        doc.commitTransaction()
+        App.Console.PrintMessage("HapticGrasp: %s %s\n" % ("marked graspable:" if on else "unmarked:",
+                                                            ", ".join(o.Label for o in objects)))
+
 
 _registered = False
 
@@ -288,5 +359,6 @@ def register():
     if not _registered:
         Gui.addCommand("HapticGrasp_Start", _StartCommand())
         Gui.addCommand("HapticGrasp_Stop", _StopCommand())
+        Gui.addCommand("HapticGrasp_MarkGraspable", _MarkGraspableCommand())
         _registered = True
-    return ["HapticGrasp_Start", "HapticGrasp_Stop"]
+    return ["HapticGrasp_Start", "HapticGrasp_Stop", "HapticGrasp_MarkGraspable"]

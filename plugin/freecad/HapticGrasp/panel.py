@@ -98,6 +98,7 @@ class HapticTaskPanel:
         buttons.addWidget(self.start_button)
         buttons.addWidget(self.stop_button)
         layout.addLayout(buttons)
+        self._add_build_row(layout)
         layout.addStretch(1)
         self.rate = RateMeter()
         self.set_running(False)
@@ -130,6 +131,8 @@ class HapticTaskPanel:
         self.controller.device = self.device()
 
     def set_running(self, running):
+        if self.building:   # the build is over (finished or cancelled)
+            self.set_building(False)
         self.device_combo.setEnabled(not running)
         self.start_button.setEnabled(not running)
         self.stop_button.setEnabled(running)
@@ -137,6 +140,55 @@ class HapticTaskPanel:
             self.rate = RateMeter()
         else:
             self.fields["state"].setText("stopped")
+
+    # --- model build progress ---------------------------------------------------------
+    def _add_build_row(self, layout):
+        """The model build: which part, a progress bar (parts done / total) and Cancel."""
+        from PySide2 import QtWidgets
+        self.build_label = QtWidgets.QLabel("")
+        self.build_label.setObjectName("HapticGrasp_BuildLabel")
+        self.build_bar = QtWidgets.QProgressBar()
+        self.build_bar.setObjectName("HapticGrasp_BuildProgress")
+        self.build_bar.setFormat("%v / %m parts")
+        self.cancel_button = QtWidgets.QPushButton("Cancel")
+        self.cancel_button.setObjectName("HapticGrasp_CancelBuildButton")
+        self.cancel_button.clicked.connect(lambda: self.controller.cancel_build())
+        row = QtWidgets.QHBoxLayout()
+        row.addWidget(self.build_bar, 1)
+        row.addWidget(self.cancel_button)
+        layout.addWidget(self.build_label)
+        layout.addLayout(row)
+        self.building = False
+        self.set_building(False)
+
+    def set_building(self, building):
+        """While the models are built: Start and the device choice disabled, the progress
+        shown with Cancel."""
+        self.building = building
+        for widget in (self.build_label, self.build_bar, self.cancel_button):
+            widget.setVisible(building)
+        self.cancel_button.setEnabled(building)
+        if building:
+            self.device_combo.setEnabled(False)
+            self.start_button.setEnabled(False)
+            self.stop_button.setEnabled(True)
+            self.fields["state"].setText("building models")
+
+    def show_build(self, done, total, current):
+        self.build_bar.setMaximum(max(1, total))
+        self.build_bar.setValue(done)
+        self.build_label.setText("Building %s (%d of %d)" % (current, done + 1, total) if current
+                                 else "Built %d of %d parts" % (done, total))
+
+    def show_rebuild(self, session):
+        """A part edited while running: its model being rebuilt (no Cancel: Stop stops)."""
+        if session is None or not session.rebuilds:
+            if not self.building and not self.build_label.isHidden():
+                self.build_label.setVisible(False)
+            return
+        names = ", ".join(label for _build, label in session.rebuilds.values())
+        self.build_label.setText("Rebuilding %s (swapped in when no part is held)" % names)
+        self.build_label.setVisible(True)
 
     def set(self, key, text):
         self.fields[key].setText(text)

@@ -21,6 +21,7 @@ except ImportError:  # the Mod folder itself is on sys.path (FreeCAD adds it)
 
 DEFAULT_DENSITY_KG_M3 = 1000.0
 DENSITY_PROPERTY = "HapticDensity"   # kg/m^3, per part (App::PropertyFloat)
+GRASPABLE_PROPERTY = "HapticGraspable"   # App::PropertyBool; see collect_solids()
 HOLDING = ("GRASP", "MANIPULATE")
 
 # Force parameters (SI), set in the preferences page "Haptic Grasp" and read at start().
@@ -83,13 +84,82 @@ def shape_brep(shape):
     return local.exportBrepToString()
 
 
+def global_placement(obj):
+    """The object's placement in the document's global frame: its own Placement composed
+    with those of the App::Part (and nested) containers it sits in."""
+    if hasattr(obj, "getGlobalPlacement"):
+        return obj.getGlobalPlacement()
+    return App.Placement(obj.Placement)
+
+
+def parent_placement(obj):
+    """The global placement of the object's container (identity at the top level), so that
+    global = parent * obj.Placement and obj.Placement = parent.inverse() * global."""
+    return global_placement(obj).multiply(obj.Placement.inverse())
+
+
+def global_bound_box(obj):
+    """The object's bounding box in global coordinates (its Shape is in its container's)."""
+    shape = obj.Shape.copy(False)   # shares the geometry
+    shape.Placement = global_placement(obj)
+    return shape.BoundBox
+
+
+def _containers(obj):
+    chain = []
+    parent = obj.getParentGeoFeatureGroup() if hasattr(obj, "getParentGeoFeatureGroup") else None
+    while parent is not None and parent not in chain:
+        chain.append(parent)
+        parent = parent.getParentGeoFeatureGroup() if hasattr(parent, "getParentGeoFeatureGroup") else None
+    return chain
+
+
+def _shown(obj):
+    """Visible, and so are the containers it sits in (a hidden App::Part hides its parts)."""
+    return getattr(obj, "Visibility", True) and all(getattr(c, "Visibility", True) for c in _containers(obj))
+
+
+def is_graspable(obj):
+    return bool(getattr(obj, GRASPABLE_PROPERTY, False))
+
+
+def set_graspable(objects, on=True):
+    """Marks (or unmarks) objects graspable: the boolean property HapticGraspable, added
+    where missing. Once any object of a document is marked, only marked objects are handed
+    to a session."""
+    for obj in objects:
+        if not hasattr(obj, GRASPABLE_PROPERTY):
+            if not on:
+                continue
+            obj.addProperty("App::PropertyBool", GRASPABLE_PROPERTY, "Haptic",
+                            "Handed to haptic sessions (once any part is marked, only marked parts are)")
+        setattr(obj, GRASPABLE_PROPERTY, bool(on))
+
+
+def is_part_candidate(obj):
+    """Objects that may stand for a part: not containers (App::Part: its Shape is the
+    compound of its children, which are handed in themselves), not the features inside a
+    PartDesign Body (the Body stands for them)."""
+    if getattr(obj, "Shape", None) is None:
+        return False
+    if obj.isDerivedFrom("App::Part") or obj.isDerivedFrom("PartDesign::Feature"):
+        return False
+    return True
+
+
 def collect_solids(doc, messages):
-    """Visible objects with a solid shape; anything else with a shape is skipped with one
-    report-view line."""
+    """The objects to hand to a session: the visible ones marked graspable if any object is
+    marked (HapticGraspable), else every visible object with a solid shape. Anything else
+    asked for (a visible unmarked object with a shape, or a marked one) that is not a solid
+    is skipped with one report-view line; so is a part marked graspable but hidden."""
+    candidates = [o for o in doc.Objects if is_part_candidate(o)]
+    marked = [o for o in candidates if is_graspable(o)]
     found = []
-    for obj in doc.Objects:
-        shape = getattr(obj, "Shape", None)
-        if shape is None or not getattr(obj, "Visibility", True):
+    for obj in marked or candidates:
+        shape = obj.Shape
+        if not _shown(obj):
+            if marked:
+                _warn(messages, "skipping %s: marked graspable but hidden" % obj.Label)
             continue
         if shape.isNull():
             _warn(messages, "skipping %s: empty shape" % obj.Label)
@@ -102,32 +172,150 @@ def collect_solids(doc, messages):
     return found
 
 
+# Cancelled ModelBuilds still finishing the part in progress. Dropping one waits for its
+# worker (the destructor joins it), so they are kept here and dropped once finished: the GUI
+# thread never waits for a cancelled build.
+_DRAINING = []
+
+
+def drain(build=None):
+    """Cancels `build` (if given) and keeps it until finished; drops the finished ones."""
+    if build is not None:
+        build.cancel()
+        _DRAINING.append(build)
+    _DRAINING[:] = [b for b in _DRAINING if not b.progress()["finished"]]
+    return len(_DRAINING)
+
+
+def part_request(obj, default_density=DEFAULT_DENSITY_KG_M3):
+    """What the core's ModelBuild takes for one object: (name, BREP text without the
+    Placement, global base mm, quaternion, density kg/m^3). GUI thread (reads the document)."""
+    density = getattr(obj, DENSITY_PROPERTY, None) or default_density
+    base, quaternion = placement_numbers(global_placement(obj))
+    return (obj.Label, shape_brep(obj.Shape), base, quaternion, density)
+
+
 class HapticSession:
     """One session: the visible solids of `doc`, a device, the servo thread."""
 
-    def __init__(self, doc, default_density=DEFAULT_DENSITY_KG_M3):
+    def __init__(self, doc, default_density=DEFAULT_DENSITY_KG_M3, wait=True):
+        """Collects the parts and starts building their models on the core's worker thread
+        (ModelBuild: OpenCASCADE checks and penetration models, no GIL held). wait=True
+        (scripts, tests) blocks until built, the GIL released; wait=False (the GUI) returns
+        at once: poll_build() from a timer, then start() once `ready`."""
         self.doc = doc
         self.default_density = default_density
         self.messages = []        # what was said in the report view, for tests and the panel
         self.objects = []         # document objects, in the core's part order
+        self.shapes = []          # per part: the Shape its model was built from (TShape identity)
+        self.rebuilds = {}        # part index -> (ModelBuild, Label) of a rebuild in flight
+        self.rebuilt = []         # per part: models swapped in after an edit
+        self.restarts = 0         # servo loops restarted to swap models in
         self.core = core.Session()
         self.state = "FREE"
         self.active = None        # index of the part being manipulated (transaction open)
         self.original = None      # its Placement before the manipulation
+        self.parent = None        # its container's global placement (App::Part), fixed meanwhile
         self.moves = 0            # committed manipulations
         self.aborted = 0
         self.fault = "none"
         self._script = None       # (keys, frame Placement, pivot Vector) of a scripted hand
         self._hand = None         # the last set_hand() (index, thumb, wrist) in mm
-        for obj in collect_solids(doc, self.messages):
-            density = getattr(obj, DENSITY_PROPERTY, None) or default_density
-            base, quaternion = placement_numbers(obj.Placement)
-            try:
-                self.core.add_part(obj.Label, shape_brep(obj.Shape), base, quaternion, density=density)
-            except ValueError as e:   # GeometryError: open shells, self-intersections...
-                _warn(self.messages, "skipping %s: %s" % (obj.Label, e))
-                continue
+        self.cancelled = False
+        self._candidates = collect_solids(doc, self.messages)
+        self._requested = []   # (object, the Shape exported), in the build's request order
+        self._next = 0         # candidates exported so far
+        if wait:
+            self.build = core.ModelBuild([r for r in map(self._export, self._candidates) if r is not None])
+            self._next = len(self._candidates)
+            self.build.wait()
+            self.poll_build()
+        else:
+            # The BREP export reads the document, so it runs here, on the GUI thread: a few
+            # parts per poll_build() (EXPORT_BUDGET_S), never all at once.
+            self.build = core.ModelBuild([], open=True)
+            self._export_more()
+
+    EXPORT_BUDGET_S = 0.015   # BREP export per poll_build() (~4 ms for 200 faces, ~45 ms for 1600)
+
+    def _export(self, obj):
+        """The core's request for obj, or None (named in the report view) if its shape
+        cannot be exported."""
+        try:
+            shape = obj.Shape
+            request = part_request(obj, self.default_density)
+        except Exception as e:
+            _warn(self.messages, "skipping %s: its shape cannot be exported: %s" % (obj.Label, e))
+            return None
+        self._requested.append((obj, shape))
+        return request
+
+    def _export_more(self):
+        """Hands the next candidates to the open build, within EXPORT_BUDGET_S (at least one)."""
+        import time
+        start = time.monotonic()
+        while self._next < len(self._candidates):
+            request = self._export(self._candidates[self._next])
+            self._next += 1
+            if request is not None:
+                self.build.add(request)
+            if time.monotonic() - start > self.EXPORT_BUDGET_S:
+                break
+        if self._next == len(self._candidates):
+            self.build.close()
+
+    # --- model build ------------------------------------------------------------------
+    @property
+    def ready(self):
+        """The models are built and in the core: start() may be called."""
+        return self.build is None and not self.cancelled
+
+    def build_progress(self):
+        """(done, total, name of the part being built or "") of the initial build."""
+        if self.build is None:
+            n = len(self._candidates)
+            return (n, n, "")
+        p = self.build.progress()
+        failed_exports = self._next - len(self._requested)
+        return (p["done"] + failed_exports, len(self._candidates), p["current"])
+
+    def poll_build(self):
+        """GUI timer: True once the build is over (built, or cancelled). The first call that
+        sees it finished adds the built parts to the core and names each part that could
+        not be built in the report view; a cancelled build adds nothing."""
+        if _DRAINING:
+            drain()
+        if self.build is None:
+            return True
+        if self._next < len(self._candidates):
+            self._export_more()
+        if not self.build.progress()["finished"]:
+            return False
+        build, self.build = self.build, None
+        if self.cancelled or build.progress()["cancelled"]:
+            self.cancelled = True
+            return True
+        for _request, name, error in build.errors():
+            _warn(self.messages, "skipping %s: %s" % (name, error))
+        for request, index in self.core.add_built(build):
+            assert index == len(self.objects)
+            obj, shape = self._requested[request]
             self.objects.append(obj)
+            self.shapes.append(shape)
+            self.rebuilt.append(0)
+        return True
+
+    def cancel_build(self):
+        """Cancels the initial build: no part is added, start() refuses. The worker
+        finishes the part in progress in the background (see drain())."""
+        build = self.build
+        if build is None:
+            return
+        drain(build)
+        self.cancelled = True
+        self.build = None
+        p = build.progress()
+        _warn(self.messages, "model build cancelled (%d of %d parts built): no session" % (p["done"], p["total"]))
 
     # --- device -----------------------------------------------------------------------
     def use_hand_script(self, keys, frame=None, pivot=None):
@@ -182,6 +370,10 @@ class HapticSession:
     def start(self, rate_hz=1000.0, realtime=False, parameters=None):
         """Starts the servo thread with the force parameters of the preferences (or
         `parameters`, a dict in SI). A bad value raises ValueError naming the key."""
+        if self.cancelled:
+            raise RuntimeError("the model build was cancelled")
+        if not self.poll_build():
+            raise RuntimeError("the part models are still being built")
         if not self.objects:
             raise RuntimeError("no solid to grasp in %s" % self.doc.Label)
         self.parameters = stored_parameters() if parameters is None else dict(parameters)
@@ -189,8 +381,12 @@ class HapticSession:
         self.core.start(rate_hz, realtime)
 
     def stop(self):
-        """Stops the servo thread; a manipulation still open is committed where it is."""
+        """Stops the servo thread; a manipulation still open is committed where it is.
+        Rebuilds in flight are cancelled."""
         self.core.stop()
+        for build, _label in self.rebuilds.values():
+            drain(build)
+        self.rebuilds = {}
         if self.active is not None:
             self._apply(self.core.snapshot())
             self._commit()
@@ -231,23 +427,90 @@ class HapticSession:
         elif self.active is None and {"lift", "release"} <= events:
             # A whole manipulation between two ticks: move what moved, one step each.
             for index, obj in enumerate(self.objects):
-                if not same_placement(to_placement(snap["placements"][index]), obj.Placement):
+                if not same_placement(to_placement(snap["placements"][index]), global_placement(obj)):
                     self._begin(index)
                     self._apply(snap)
                     self._commit()
         self.state = state
+        if self.core.running:
+            self._watch_edits(state, snap)
         return snap
+
+    # --- edits while running ----------------------------------------------------------
+    def _watch_edits(self, state, snap):
+        """A part whose Shape changed (a recompute made a new shape: TShape identity, so
+        Placement changes do not count) gets its model rebuilt on a worker thread; finished
+        rebuilds are swapped in when no part is held (not in GRASP or MANIPULATE, no move
+        open): the servo loop is restarted with the new scene, the parts where the document
+        has them, and the report view says so. Untouched parts keep their models.
+        A part the document placed elsewhere than the core has it (an undo, a Placement
+        typed in, its App::Part moved) restarts the loop the same way, without a rebuild."""
+        for index, obj in enumerate(self.objects):
+            try:
+                shape = obj.Shape
+            except Exception:   # the object was deleted meanwhile: leave its model be
+                continue
+            if shape.isPartner(self.shapes[index]):
+                continue
+            self.shapes[index] = shape
+            previous = self.rebuilds.pop(index, None)
+            if previous is not None:
+                drain(previous[0])
+            if shape.isNull():
+                _warn(self.messages, "%s changed to an empty shape: keeping its previous model" % obj.Label)
+                continue
+            self.rebuilds[index] = (core.ModelBuild([part_request(obj, self.default_density)]), obj.Label)
+            _warn(self.messages, "%s changed: rebuilding its model" % obj.Label)
+        if _DRAINING:
+            drain()
+        if self.active is not None or state in HOLDING:
+            return
+        placements = []   # where the document has the parts (global)
+        moved = []
+        for index, obj in enumerate(self.objects):
+            core_placement = to_placement(snap["placements"][index])
+            try:
+                placement = global_placement(obj)
+            except Exception:   # deleted meanwhile: it stays where the core has it
+                placement = core_placement
+            if not same_placement(placement, core_placement, 1e-6):
+                moved.append(obj.Label)
+            placements.append(placement_numbers(placement))
+        swapped = []
+        for index in sorted(self.rebuilds):
+            build, label = self.rebuilds[index]
+            if not build.progress()["finished"]:
+                continue
+            del self.rebuilds[index]
+            errors = build.errors()
+            if errors:
+                _warn(self.messages, "rebuild of %s failed: %s; keeping its previous model" % (label, errors[0][2]))
+                continue
+            self.core.replace_part(index, build)
+            self.rebuilt[index] += 1
+            swapped.append(label)
+        if not swapped and not moved:
+            return
+        self.core.restart(placements)
+        self.restarts += 1
+        if swapped:
+            _warn(self.messages, "%s rebuilt: haptics restarted with the new shape" % ", ".join(swapped))
+        if moved:
+            _warn(self.messages, "%s moved in the document: haptics restarted with the parts where the "
+                  "document has them" % ", ".join(moved))
 
     # --- internals --------------------------------------------------------------------
     def _begin(self, index):
         obj = self.objects[index]
         self.active = index
         self.original = App.Placement(obj.Placement)
+        self.parent = parent_placement(obj)
         self.doc.openTransaction("Haptic move %s" % obj.Label)
 
     def _apply(self, snap):
         obj = self.objects[self.active]
-        placement = to_placement(snap["placements"][self.active])
+        # The core has the global placement; the object keeps one relative to its container.
+        placement = self.parent.inverse().multiply(to_placement(snap["placements"][self.active]))
         if not same_placement(placement, obj.Placement):
             obj.Placement = placement
 
@@ -255,6 +518,7 @@ class HapticSession:
         self.doc.commitTransaction()
         self.active = None
         self.original = None
+        self.parent = None
         self.moves += 1
 
     def _on_fault(self, snap):
@@ -272,6 +536,7 @@ class HapticSession:
                 obj.Placement = self.original
             self.active = None
             self.original = None
+            self.parent = None
             self.aborted += 1
             say(self.messages, "%s: move of %s aborted, the part is back where it was" % (why, obj.Label))
         else:
@@ -286,7 +551,7 @@ def demo_script(obj, lift_mm=50.0, move_mm=(0.0, 100.0, 0.0), lift=True, turn_ra
     Once lifted (MANIPULATE) the part follows the midpoint of the fingertips rigidly, so it
     ends displaced by move_mm (plus the fraction of a millimetre the midpoint moved while
     the fingers closed). Returns (keys, frame Placement)."""
-    box = obj.Shape.BoundBox
+    box = global_bound_box(obj)
     half = 0.5 * box.XLength
     open_, inside = half + 20.0, half - 0.5
     squeezed = inside - 0.5

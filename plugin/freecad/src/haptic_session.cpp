@@ -1,5 +1,6 @@
 #include "haptic_session.hpp"
 
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 
@@ -25,19 +26,190 @@ PartInfo describe(const geometry::PartModel& part, const geometry::MassSpec& mas
   info.centre_mm = toMillimetres(props.centre_m);
   info.primitive = geometry::toString(part.primitive().kind);
   info.warnings = part.warnings();
+  const geometry::Aabb box = part.bounds();
+  info.boundsMin_mm = toMillimetres(box.min);
+  info.boundsMax_mm = toMillimetres(box.max);
   return info;
 }
+
+BuiltPart buildPart(const PartRequest& request) {
+  const grasp::PartPose pose = toPose(request.placement);
+  auto model = loadPart(request.brep, request.name);
+  BuiltPart built{grasp::makeScenePart(model, request.mass, pose), {}};
+  built.info = describe(*model, request.mass);
+  return built;
+}
+
+// --- ModelBuild -------------------------------------------------------------------------
+
+ModelBuild::ModelBuild(std::vector<PartRequest> requests, bool open)
+    : requests_(std::move(requests)), closed_(!open) {
+  progress_.total = requests_.size();
+  worker_ = std::thread([this] { run(); });
+}
+
+ModelBuild::~ModelBuild() {
+  cancel();
+  if (worker_.joinable()) worker_.join();
+}
+
+void ModelBuild::add(PartRequest request) {
+  std::lock_guard lock(mutex_);
+  if (closed_ || cancel_.load(std::memory_order_acquire)) throw std::logic_error("the model build takes no more parts");
+  requests_.push_back(std::move(request));
+  progress_.total = requests_.size();
+  more_.notify_all();
+}
+
+void ModelBuild::close() {
+  std::lock_guard lock(mutex_);
+  closed_ = true;
+  more_.notify_all();
+}
+
+void ModelBuild::run() noexcept {
+  for (std::size_t i = 0;; ++i) {
+    PartRequest request;
+    {
+      std::unique_lock lock(mutex_);
+      more_.wait(lock, [&] { return cancel_.load(std::memory_order_acquire) || i < requests_.size() || closed_; });
+      if (cancel_.load(std::memory_order_acquire) || i >= requests_.size()) break;
+      request = std::move(requests_[i]);  // the worker's now; add() may grow the vector
+      progress_.current = request.name;
+    }
+    Outcome outcome;
+    outcome.request = i;
+    outcome.name = request.name;
+    try {
+      outcome.built = buildPart(request);
+    } catch (const std::exception& e) {
+      outcome.error = e.what();
+    } catch (...) {
+      outcome.error = "unknown error while building the part";
+    }
+    std::lock_guard lock(mutex_);
+    outcomes_.push_back(std::move(outcome));
+    progress_.done = i + 1;
+    progress_.current.clear();
+  }
+  std::lock_guard lock(mutex_);
+  progress_.current.clear();
+  progress_.cancelled = cancel_.load(std::memory_order_acquire) && (progress_.done < progress_.total || !closed_);
+  progress_.finished = true;
+  done_.notify_all();
+}
+
+ModelBuild::Progress ModelBuild::progress() const {
+  std::lock_guard lock(mutex_);
+  return progress_;
+}
+
+void ModelBuild::cancel() noexcept {
+  std::lock_guard lock(mutex_);
+  cancel_.store(true, std::memory_order_release);
+  more_.notify_all();
+}
+
+bool ModelBuild::wait(double timeout_s) {
+  std::unique_lock lock(mutex_);
+  if (timeout_s < 0) {
+    done_.wait(lock, [this] { return progress_.finished; });
+  } else {
+    done_.wait_for(lock, std::chrono::duration<double>(timeout_s), [this] { return progress_.finished; });
+  }
+  return progress_.finished;
+}
+
+std::vector<ModelBuild::Outcome> ModelBuild::outcomes() const {
+  std::lock_guard lock(mutex_);
+  std::vector<Outcome> out;
+  out.reserve(outcomes_.size());
+  for (const auto& o : outcomes_) {
+    Outcome copy;
+    copy.request = o.request;
+    copy.name = o.name;
+    copy.error = o.error;
+    if (o.built) copy.built = o.built;  // shares the (immutable) models
+    out.push_back(std::move(copy));
+  }
+  return out;
+}
+
+BuiltPart ModelBuild::take(std::size_t i) {
+  std::lock_guard lock(mutex_);
+  if (!progress_.finished) throw std::logic_error("the model build is still running");
+  if (i >= outcomes_.size() || !outcomes_[i].built)
+    throw std::logic_error("no built part at outcome " + std::to_string(i));
+  BuiltPart part = std::move(*outcomes_[i].built);
+  outcomes_[i].built.reset();
+  return part;
+}
+
+// --- Session ----------------------------------------------------------------------------
 
 Session::~Session() { stop(); }
 
 int Session::addPart(const std::string& name, const std::string& brep, const Placement& placement,
                      const geometry::MassSpec& mass) {
   if (loop_) throw std::logic_error("parts must be added before start()");
-  const grasp::PartPose pose = toPose(placement);
-  auto model = loadPart(brep, name);
-  parts_.push_back(grasp::makeScenePart(model, mass, pose));
-  infos_.push_back(describe(*model, mass));
+  BuiltPart built = buildPart(PartRequest{name, brep, placement, mass});
+  parts_.push_back(std::move(built.part));
+  infos_.push_back(std::move(built.info));
   return static_cast<int>(parts_.size()) - 1;
+}
+
+std::vector<std::pair<std::size_t, int>> Session::addBuilt(ModelBuild& build) {
+  if (loop_) throw std::logic_error("parts must be added before start()");
+  const ModelBuild::Progress progress = build.progress();
+  if (!progress.finished) throw std::logic_error("the model build is still running");
+  if (progress.cancelled) throw std::logic_error("the model build was cancelled");
+  const auto outcomes = build.outcomes();
+  std::vector<std::pair<std::size_t, int>> added;
+  for (std::size_t i = 0; i < outcomes.size(); ++i) {
+    if (!outcomes[i].built) continue;
+    BuiltPart built = build.take(i);
+    parts_.push_back(std::move(built.part));
+    infos_.push_back(std::move(built.info));
+    added.emplace_back(outcomes[i].request, static_cast<int>(parts_.size()) - 1);
+  }
+  return added;
+}
+
+void Session::replacePart(std::size_t index, ModelBuild& build) {
+  if (index >= parts_.size()) throw std::out_of_range("no part " + std::to_string(index));
+  const ModelBuild::Progress progress = build.progress();
+  if (!progress.finished || progress.cancelled) throw std::logic_error("the model build did not finish");
+  const auto outcomes = build.outcomes();
+  if (outcomes.size() != 1) throw std::logic_error("a part is replaced by a build of one part");
+  if (!outcomes[0].built) throw std::logic_error("the rebuild of " + outcomes[0].name + " failed: " + outcomes[0].error);
+  BuiltPart built = build.take(0);
+  parts_[index] = std::move(built.part);
+  infos_[index] = std::move(built.info);
+}
+
+void Session::restart(const std::vector<Placement>& placements) {
+  if (!loop_ || !device_) throw std::logic_error("restart() needs a started session");
+  if (placements.size() != parts_.size())
+    throw std::invalid_argument("restart() needs one placement per part (" + std::to_string(parts_.size()) + ")");
+  std::vector<grasp::PartPose> poses;
+  poses.reserve(placements.size());
+  for (const auto& p : placements) poses.push_back(toPose(p));  // may throw: nothing changed yet
+  auto scene = std::make_shared<const grasp::Scene>([&] {
+    std::vector<grasp::ScenePart> parts = parts_;
+    for (std::size_t i = 0; i < parts.size(); ++i) parts[i].initialPose = poses[i];
+    return parts;
+  }());
+  // The time and ticks of the old loop carry on in the snapshots.
+  if (loop_->read(*snap_)) {
+    timeOffset_s_ += snap_->time_s;
+    tickOffset_ += snap_->tick;
+  }
+  loop_->stop();
+  loop_.reset();
+  for (std::size_t i = 0; i < parts_.size(); ++i) parts_[i].initialPose = poses[i];
+  reader_ = servo::SnapshotReader{};
+  loop_ = std::make_unique<servo::ServoLoop>(device_, scene, parameters_, config_);
+  loop_->start();
 }
 
 void Session::setHandScript(const std::vector<HandKeyMm>& keys, const Placement& frame,
@@ -130,6 +302,8 @@ void Session::start(double rate_hz, bool realtime) {
   servo::ServoConfig config;
   config.rate_hz = rate_hz;
   config.realtime = realtime;
+  device_ = device;
+  config_ = config;
   loop_ = std::make_unique<servo::ServoLoop>(device, scene, parameters_, config);
   loop_->start();
 }
@@ -143,11 +317,13 @@ SessionSnapshot Session::snapshot() {
   out.placements.reserve(parts_.size());
   if (!loop_ || !loop_->read(*snap_)) {
     for (const auto& part : parts_) out.placements.push_back(toPlacement(part.initialPose));
+    out.tick = tickOffset_;
+    out.time_s = timeOffset_s_;
     return out;
   }
   const servo::ServoSnapshot& s = *snap_;
-  out.tick = s.tick;
-  out.time_s = s.time_s;
+  out.tick = tickOffset_ + s.tick;
+  out.time_s = timeOffset_s_ + s.time_s;
   out.state = grasp::toString(s.state);
   out.graspedPart = s.graspedPart;
   out.events = reader_.eventsSinceLastRead(s, &out.eventsLost);

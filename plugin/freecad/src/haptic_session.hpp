@@ -2,9 +2,14 @@
 // What the FreeCAD workbench drives: parts (BREP text in mm, placed by FreeCAD Placements),
 // a device, and the real servo loop; snapshots come back in FreeCAD's units. No Python
 // here: module.cpp binds it. Conversions go through freecad_boundary.hpp only.
+#include <atomic>
 #include <cstdint>
 #include <memory>
+#include <condition_variable>
+#include <mutex>
+#include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "freecad_boundary.hpp"
@@ -26,11 +31,84 @@ struct PartInfo {
   std::array<double, 3> centre_mm{0, 0, 0};
   std::string primitive;
   std::vector<std::string> warnings;
+  std::array<double, 3> boundsMin_mm{0, 0, 0}, boundsMax_mm{0, 0, 0};  // object frame
 };
 
 // Parses BREP text (mm, Placement reset) into a validated part; throws GeometryError.
 geometry::PartModelPtr loadPart(const std::string& brep, const std::string& name);
 PartInfo describe(const geometry::PartModel& part, const geometry::MassSpec& mass);
+
+struct PartRequest;
+struct BuiltPart;
+// Loads, validates and models one part (slow: OpenCASCADE checks and the penetration
+// back end); throws GeometryError / std::invalid_argument.
+BuiltPart buildPart(const PartRequest& request);
+
+// One part to build: BREP text (mm, Placement reset), where it stands, its mass.
+struct PartRequest {
+  std::string name;
+  std::string brep;
+  Placement placement;
+  geometry::MassSpec mass;
+};
+
+// A part built and ready for the servo loop: validated model, penetration back end, mass.
+struct BuiltPart {
+  grasp::ScenePart part;
+  PartInfo info;
+};
+
+// Builds part models on its own worker thread (std::thread), one part after the other, so
+// the caller (the GUI thread) never waits for OpenCASCADE: it polls progress() from its
+// timer. A part that fails (GeometryError, a bad placement...) is recorded with its
+// message and the build goes on with the others. cancel() stops it after the part in
+// progress (a single part's load is not interruptible). Never touched by the servo thread.
+class ModelBuild {
+ public:
+  struct Progress {
+    std::size_t done = 0, total = 0;  // parts finished (built or failed), parts requested
+    std::string current;              // the part being built ("" when none)
+    bool finished = false;            // the worker is done (all parts, or cancelled)
+    bool cancelled = false;
+  };
+  struct Outcome {
+    std::size_t request = 0;          // index into the requests
+    std::string name;
+    std::optional<BuiltPart> built;   // empty: failed (error) or taken
+    std::string error;
+  };
+
+  // Starts building `requests` at once. open: more may come with add() until close() (the
+  // GUI hands parts over a few per timer tick); the build finishes only once closed.
+  explicit ModelBuild(std::vector<PartRequest> requests, bool open = false);
+  ~ModelBuild();  // cancels and joins
+  // An open build: one more part (throws std::logic_error once closed or cancelled).
+  void add(PartRequest request);
+  void close();
+  ModelBuild(const ModelBuild&) = delete;
+  ModelBuild& operator=(const ModelBuild&) = delete;
+
+  Progress progress() const;
+  void cancel() noexcept;
+  // Blocks until the worker is done, at most timeout_s (< 0: no limit); true when done.
+  bool wait(double timeout_s = -1);
+  // The outcomes so far, in request order (errors included); built parts not yet taken.
+  std::vector<Outcome> outcomes() const;
+  // Moves the built part of outcome `i` out (throws std::logic_error if none / not done).
+  BuiltPart take(std::size_t i);
+
+ private:
+  void run() noexcept;
+
+  std::vector<PartRequest> requests_;  // under mutex_ (add() appends)
+  bool closed_ = true;
+  mutable std::mutex mutex_;
+  std::condition_variable done_, more_;
+  Progress progress_;
+  std::vector<Outcome> outcomes_;
+  std::atomic<bool> cancel_{false};
+  std::thread worker_;
+};
 
 struct SessionSnapshot {
   std::uint64_t tick = 0;
@@ -61,6 +139,17 @@ class Session {
   // Before start(). Returns the part's index. Throws GeometryError / std::invalid_argument.
   int addPart(const std::string& name, const std::string& brep, const Placement& placement,
               const geometry::MassSpec& mass);
+  // Before start(): every part `build` built, in request order; returns their indices
+  // (the failed requests get none: see build.outcomes()). Throws std::logic_error if the
+  // build is not finished or was cancelled (a cancelled build adds nothing).
+  std::vector<std::pair<std::size_t, int>> addBuilt(ModelBuild& build);
+  // Any time (GUI thread): part `index` gets the one part `build` built (a rebuild after an
+  // edit). A running servo loop keeps its scene until restart().
+  void replacePart(std::size_t index, ModelBuild& build);
+  // While running: stops the servo loop and starts a new one with the current parts,
+  // standing at `placements` (mm, every part), with the same device and parameters. The
+  // grasp starts again from FREE; snapshot time and ticks carry on.
+  void restart(const std::vector<Placement>& placements);
   std::size_t partCount() const { return parts_.size(); }
   const PartInfo& partInfo(std::size_t i) const { return infos_.at(i); }
 
@@ -102,6 +191,10 @@ class Session {
   double handHold_s_ = 0;  // > 0: the hand input device was chosen
   std::shared_ptr<servo::ScriptedHandDevice> scripted_;
   std::shared_ptr<HandInputDevice> input_;
+  std::shared_ptr<device::Device> device_;  // the one start() made, reused by restart()
+  servo::ServoConfig config_;
+  double timeOffset_s_ = 0;                 // servo time of the loops before a restart()
+  std::uint64_t tickOffset_ = 0;
   std::unique_ptr<servo::ServoLoop> loop_;
   std::unique_ptr<servo::ServoSnapshot> snap_ = std::make_unique<servo::ServoSnapshot>();
   servo::SnapshotReader reader_;

@@ -41,7 +41,22 @@ py::dict infoDict(const freecad::PartInfo& info) {
   d["centre_mm"] = py::make_tuple(info.centre_mm[0], info.centre_mm[1], info.centre_mm[2]);
   d["primitive"] = info.primitive;
   d["warnings"] = info.warnings;
+  const auto mm = [](const std::array<double, 3>& p) { return py::make_tuple(p[0], p[1], p[2]); };
+  d["bounds_mm"] = py::make_tuple(mm(info.boundsMin_mm), mm(info.boundsMax_mm));
   return d;
+}
+
+// (name, brep, base_mm, quaternion, density) or with a 6th item, mass (density None).
+freecad::PartRequest partRequest(const py::handle& item) {
+  const auto t = py::reinterpret_borrow<py::tuple>(item);
+  if (t.size() != 5 && t.size() != 6)
+    throw std::invalid_argument("a part to build is (name, brep, base_mm, quaternion, density[, mass])");
+  std::optional<double> density, mass;
+  if (!t[4].is_none()) density = t[4].cast<double>();
+  if (t.size() == 6 && !t[5].is_none()) mass = t[5].cast<double>();
+  return freecad::PartRequest{t[0].cast<std::string>(), t[1].cast<std::string>(),
+                              placementFrom(t[2].cast<std::array<double, 3>>(), t[3].cast<std::array<double, 4>>()),
+                              massSpec(density, mass)};
 }
 
 }  // namespace
@@ -65,6 +80,46 @@ PYBIND11_MODULE(_hapticgrasp, m) {
       "Validate BREP text (mm, Placement reset) and return faces, volume_mm3, mass_kg, centre_mm, primitive, warnings. "
       "Raises GeometryError (a ValueError) for a shape that cannot be grasped.");
 
+  py::class_<freecad::ModelBuild>(m, "ModelBuild",
+                                  "Builds part models on a worker thread (the GIL is not held by it); poll progress().")
+      .def(py::init([](const py::list& parts, bool open) {
+             std::vector<freecad::PartRequest> requests;
+             for (const auto& item : parts) requests.push_back(partRequest(item));
+             return std::make_unique<freecad::ModelBuild>(std::move(requests), open);
+           }),
+           py::arg("parts"), py::arg("open") = false,
+           "Starts building at once. parts: [(name, brep, base_mm, quaternion, density[, mass])], BREP text in mm "
+           "without the Placement. open=True: more parts come with add() until close().")
+      .def(
+          "add", [](freecad::ModelBuild& b, const py::tuple& part) { b.add(partRequest(part)); }, py::arg("part"),
+          "An open build: one more part, (name, brep, base_mm, quaternion, density[, mass]).")
+      .def("close", &freecad::ModelBuild::close, "An open build takes no more parts; it finishes when they are built.")
+      .def(
+          "progress",
+          [](const freecad::ModelBuild& b) {
+            const auto p = b.progress();
+            py::dict d;
+            d["done"] = p.done;
+            d["total"] = p.total;
+            d["current"] = p.current;
+            d["finished"] = p.finished;
+            d["cancelled"] = p.cancelled;
+            return d;
+          },
+          "done, total, current (the part being built), finished, cancelled.")
+      .def("cancel", &freecad::ModelBuild::cancel, "Stops after the part in progress; nothing built is added.")
+      .def("wait", &freecad::ModelBuild::wait, py::arg("timeout_s") = -1.0, py::call_guard<py::gil_scoped_release>(),
+           "Blocks (GIL released) until finished or timeout_s (< 0: no limit); True when finished.")
+      .def(
+          "errors",
+          [](const freecad::ModelBuild& b) {
+            py::list out;
+            for (const auto& o : b.outcomes())
+              if (!o.error.empty()) out.append(py::make_tuple(o.request, o.name, o.error));
+            return out;
+          },
+          "[(request index, name, message)] of the parts that could not be built.");
+
   py::class_<freecad::Session>(m, "Session")
       .def(py::init<>())
       .def(
@@ -78,6 +133,28 @@ PYBIND11_MODULE(_hapticgrasp, m) {
           },
           py::arg("name"), py::arg("brep"), py::arg("base_mm"), py::arg("quaternion"), py::arg("density") = py::none(),
           py::arg("mass") = py::none(), "Add a part (BREP text in mm without Placement); returns its index.")
+      .def(
+          "add_built",
+          [](freecad::Session& s, freecad::ModelBuild& build) {
+            py::list out;
+            for (const auto& [request, index] : s.addBuilt(build)) out.append(py::make_tuple(request, index));
+            return out;
+          },
+          py::arg("build"),
+          "Before start(): adds every part a finished ModelBuild built; returns [(request index, part index)].")
+      .def("replace_part", &freecad::Session::replacePart, py::arg("index"), py::arg("build"),
+           "Part `index` gets the part a finished one-part ModelBuild built; a running loop needs restart().")
+      .def(
+          "restart",
+          [](freecad::Session& s, const std::vector<std::pair<std::array<double, 3>, std::array<double, 4>>>& placements) {
+            std::vector<Placement> p;
+            for (const auto& [base, q] : placements) p.push_back(placementFrom(base, q));
+            py::gil_scoped_release release;
+            s.restart(p);
+          },
+          py::arg("placements"),
+          "While running: a new servo loop with the current parts at `placements` (((x, y, z) mm, (qx, qy, qz, qw)) "
+          "per part), same device and parameters; the grasp starts again from FREE.")
       .def("part_count", &freecad::Session::partCount)
       .def("part_info", [](const freecad::Session& s, std::size_t i) { return infoDict(s.partInfo(i)); })
       .def(

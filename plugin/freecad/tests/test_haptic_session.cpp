@@ -8,6 +8,9 @@
 #include <sstream>
 #include <thread>
 
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepTools.hxx>
+
 #include "haptic_session.hpp"
 
 namespace hg::freecad {
@@ -47,6 +50,121 @@ TEST(HapticSession, SnapshotCarriesForcesHandAndRate) {
   }
   EXPECT_GT(snap.rate_hz, 100.0);  // ran; the figure itself is not asserted
   EXPECT_TRUE(std::isfinite(snap.jitter_us));
+}
+
+std::string blockBrep() {
+  std::ifstream in(std::string(HG_RESOURCES_DIR) + "/parts/block.brep");
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+TEST(ModelBuild, BuildsOnItsWorkerWithProgressAndNamesABadPart) {
+  std::vector<PartRequest> requests;
+  for (int i = 0; i < 3; ++i)
+    requests.push_back({"Block" + std::to_string(i), blockBrep(), Placement{{0, 400.0 * i, 0}, {0, 0, 0, 1}},
+                        geometry::MassSpec::density(1000)});
+  requests.insert(requests.begin() + 1, PartRequest{"Broken", "not a brep", Placement{}, geometry::MassSpec::density(1000)});
+  ModelBuild build(std::move(requests));
+  // The constructor returned at once: the caller polls while the worker builds.
+  std::vector<std::size_t> seen{build.progress().done};
+  int polls = 0;
+  while (!build.progress().finished) {
+    ++polls;
+    const std::size_t done = build.progress().done;
+    if (done != seen.back()) seen.push_back(done);
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  EXPECT_EQ(seen.front(), 0u);
+  EXPECT_GT(polls, 3);
+  EXPECT_GE(seen.size(), 2u);
+  const auto progress = build.progress();
+  EXPECT_EQ(progress.done, 4u);
+  EXPECT_FALSE(progress.cancelled);
+  const auto outcomes = build.outcomes();
+  ASSERT_EQ(outcomes.size(), 4u);
+  EXPECT_FALSE(outcomes[1].built);
+  EXPECT_EQ(outcomes[1].name, "Broken");
+  EXPECT_FALSE(outcomes[1].error.empty());
+  Session session;
+  const auto added = session.addBuilt(build);
+  ASSERT_EQ(added.size(), 3u);
+  EXPECT_EQ(added[1].first, 2u);  // request 2 became part 1
+  EXPECT_EQ(session.partCount(), 3u);
+  EXPECT_EQ(session.partInfo(1).name, "Block1");
+}
+
+TEST(ModelBuild, CancelStopsAfterThePartInProgressAndAddsNothing) {
+  std::vector<PartRequest> requests;
+  for (int i = 0; i < 5; ++i)
+    requests.push_back({"Block" + std::to_string(i), blockBrep(), Placement{}, geometry::MassSpec::density(1000)});
+  ModelBuild build(std::move(requests));
+  build.cancel();
+  EXPECT_TRUE(build.wait(60));
+  const auto progress = build.progress();
+  EXPECT_TRUE(progress.finished);
+  EXPECT_TRUE(progress.cancelled);
+  EXPECT_LE(progress.done, 1u);
+  Session session;
+  EXPECT_THROW(session.addBuilt(build), std::logic_error);
+  EXPECT_EQ(session.partCount(), 0u);
+}
+
+TEST(ModelBuild, AnOpenBuildTakesPartsUntilClosed) {
+  ModelBuild build({}, true);
+  build.add({"Block0", blockBrep(), Placement{}, geometry::MassSpec::density(1000)});
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  EXPECT_FALSE(build.progress().finished);  // open: waits for more
+  build.add({"Block1", blockBrep(), Placement{{0, 400, 0}, {0, 0, 0, 1}}, geometry::MassSpec::density(1000)});
+  build.close();
+  EXPECT_THROW(build.add({"Late", blockBrep(), Placement{}, geometry::MassSpec::density(1000)}), std::logic_error);
+  ASSERT_TRUE(build.wait(60));
+  EXPECT_EQ(build.progress().done, 2u);
+  EXPECT_EQ(build.progress().total, 2u);
+  EXPECT_FALSE(build.progress().cancelled);
+  Session session;
+  EXPECT_EQ(session.addBuilt(build).size(), 2u);
+  // Cancelling an open build that waits for parts ends it at once, cancelled.
+  ModelBuild open({}, true);
+  open.cancel();
+  ASSERT_TRUE(open.wait(5));
+  EXPECT_TRUE(open.progress().cancelled);
+}
+
+TEST(HapticSession, ReplacePartAndRestartMakeTheNewShapeFelt) {
+  Session session;
+  session.addPart("Block", blockBrep(), Placement{{-500, 0, 0}, {0, 0, 0, 1}}, geometry::MassSpec::density(1000));
+  session.addPart("Part", cylinderBrep(), Placement{{0, 0, 200}, {0, 0, 0, 1}}, geometry::MassSpec::mass(2));
+  // The index 80 mm from the cylinder's axis (radius 50): free. The thumb far away.
+  const std::array<double, 3> index{80, 0, 200}, thumb{-300, 0, 200}, wrist{0, -100, 300};
+  session.useHandInput(0.5);
+  session.start(1000, false);
+  const auto feed = [&](int ms) {
+    for (int k = 0; k < ms; ++k) {
+      session.setHand(index, thumb, wrist);
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    return session.snapshot();
+  };
+  const SessionSnapshot before = feed(200);
+  EXPECT_EQ(before.state, "FREE");
+  EXPECT_EQ(before.forces_N[0][0], 0.0);
+  // The part is edited into a 200 mm cube centred where the cylinder stood.
+  std::ostringstream cube;
+  BRepTools::Write(BRepPrimAPI_MakeBox(gp_Pnt(-100, -100, -100), 200, 200, 200).Shape(), cube);
+  ModelBuild build({PartRequest{"Part", cube.str(), Placement{{0, 0, 200}, {0, 0, 0, 1}}, geometry::MassSpec::mass(2)}});
+  ASSERT_TRUE(build.wait(60));
+  session.replacePart(1, build);
+  EXPECT_NEAR(session.partInfo(1).boundsMax_mm[0], 100, 1e-6);
+  EXPECT_EQ(session.partInfo(0).faces, 58);  // untouched
+  session.restart({Placement{{-500, 0, 0}, {0, 0, 0, 1}}, Placement{{0, 0, 200}, {0, 0, 0, 1}}});
+  EXPECT_TRUE(session.running());
+  const SessionSnapshot after = feed(300);
+  session.stop();
+  EXPECT_EQ(after.state, "INDEX CONTACT");
+  EXPECT_GT(after.forces_N[0][0], 0.1);  // pushed out through the cube's +x face
+  EXPECT_GT(after.time_s, before.time_s);  // time and ticks carry on across the restart
+  EXPECT_GT(after.tick, before.tick);
 }
 
 }  // namespace
