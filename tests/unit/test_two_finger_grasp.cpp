@@ -61,6 +61,15 @@ ScenePart cylinderFor(const Case& s) {
 
 ScenePtr sceneOf(std::vector<ScenePart> parts) { return std::make_shared<const Scene>(std::move(parts)); }
 
+// A hand given in the part's frame: fingertips and wrist as points of the object frame.
+HandSample handIn(const PartPose& pose, const Vec3& index, const Vec3& thumb, const Vec3& wrist = Vec3(0, -0.1, 0)) {
+  HandSample h;
+  h.index = pose.pointToAbsolute(index);
+  h.thumb = pose.pointToAbsolute(thumb);
+  h.wrist = pose.pointToAbsolute(wrist);
+  return h;
+}
+
 // Where the fingertips go, in the cylinder's frame (axis z): across the diameter along x,
 // index at +x; the wrist off to -y.
 struct Grip {
@@ -369,10 +378,7 @@ TEST(TwoFingerGrasp, ContactForceUsesThePartPose) {
   const Case s;  // lying along y: the object's x is absolute x, its -y is absolute up
   TwoFingerGrasp grasp(sceneOf({cylinderFor(s)}));
   const PartPose pose{s.rotation, s.position};
-  HandSample h;
-  h.wrist = pose.pointToAbsolute(Vec3(0, -0.1, 0));
-  h.thumb = pose.pointToAbsolute(Vec3(-0.08, 0, 0));
-  h.index = pose.pointToAbsolute(Vec3(0.08, 0, 0));
+  HandSample h = handIn(pose, Vec3(0.08, 0, 0), Vec3(-0.08, 0, 0));
   EXPECT_EQ(grasp.step(h, 0).state, S::Free);
   // Object -y is absolute +z: the index pressed 3 mm into the top (object -y side).
   h.index = pose.pointToAbsolute(Vec3(0, -(0.05 - 3e-3), 0.1));
@@ -546,10 +552,7 @@ TEST(TwoFingerGrasp, HeldPartFollowsTheHandRigidly) {
   const Case s;
   TwoFingerGrasp grasp(sceneOf({cylinderFor(s)}));
   const PartPose pose{s.rotation, s.position};
-  HandSample h;
-  h.wrist = pose.pointToAbsolute(Vec3(0.01, -0.1, 0.02));
-  h.thumb = pose.pointToAbsolute(Vec3(-0.08, 0, 0));
-  h.index = pose.pointToAbsolute(Vec3(0.08, 0, 0));
+  HandSample h = handIn(pose, Vec3(0.08, 0, 0), Vec3(-0.08, 0, 0), Vec3(0.01, -0.1, 0.02));
   grasp.step(h, 0);
   h.index = pose.pointToAbsolute(Vec3(0.049, 0.003, 0.05));
   grasp.step(h, 1e-3);
@@ -635,10 +638,7 @@ TEST(TwoFingerGrasp, OscillatingAroundTheReleaseDistanceReleasesOnce) {
   const GraspParameters k;
   TwoFingerGrasp grasp(sceneOf({cylinderFor(s)}), k);
   const PartPose pose{s.rotation, s.position};
-  HandSample h;
-  h.wrist = pose.pointToAbsolute(Vec3(0, -0.1, 0));
-  h.thumb = pose.pointToAbsolute(Vec3(-0.049, 0, 0));
-  h.index = pose.pointToAbsolute(Vec3(0.07, 0, 0));
+  HandSample h = handIn(pose, Vec3(0.07, 0, 0), Vec3(-0.049, 0, 0));
   grasp.step(h, 0);
   double gripDistance = 0;
   for (int i = 1; i <= 100; ++i) {
@@ -666,10 +666,7 @@ TEST(TwoFingerGrasp, OscillatingAroundTheGraspDistanceGraspsOnce) {
   const Case s;
   TwoFingerGrasp grasp(sceneOf({cylinderFor(s)}));
   const PartPose pose{s.rotation, s.position};
-  HandSample h;
-  h.wrist = pose.pointToAbsolute(Vec3(0, -0.1, 0));
-  h.thumb = pose.pointToAbsolute(Vec3(-0.049, 0, 0));
-  h.index = pose.pointToAbsolute(Vec3(0.06, 0, 0));
+  HandSample h = handIn(pose, Vec3(0.06, 0, 0), Vec3(-0.049, 0, 0));
   grasp.step(h, 0);
   ASSERT_EQ(grasp.state(), S::ThumbContact);
   int transitions = 0;
@@ -711,10 +708,7 @@ TEST(TwoFingerGrasp, APartReturningOntoTheFingertipsIsNotRegrasped) {
   const Case s;
   TwoFingerGrasp grasp(sceneOf({cylinderFor(s)}));
   const PartPose pose{s.rotation, s.position};
-  HandSample h;
-  h.wrist = pose.pointToAbsolute(Vec3(0, -0.1, 0));
-  h.thumb = pose.pointToAbsolute(Vec3(-0.049, 0, 0));
-  h.index = pose.pointToAbsolute(Vec3(0.049, 0, 0));
+  HandSample h = handIn(pose, Vec3(0.049, 0, 0), Vec3(-0.049, 0, 0));
   grasp.step(h, 0);  // both come in at once: grasp
   ASSERT_EQ(grasp.state(), S::Grasp);
   const Mat3 quarter = Eigen::AngleAxisd(kPi / 2, pose.vectorToAbsolute(Vec3::UnitY())).toRotationMatrix();
@@ -745,10 +739,7 @@ TEST(TwoFingerGrasp, CoincidentFingertipsKeepTheLastFrame) {
   const GraspParameters k;
   TwoFingerGrasp grasp(sceneOf({cylinderFor(s)}), k);
   const PartPose pose{s.rotation, s.position};
-  HandSample h;
-  h.wrist = pose.pointToAbsolute(Vec3(0, -0.1, 0));
-  h.thumb = pose.pointToAbsolute(Vec3(-0.049, 0, 0));
-  h.index = pose.pointToAbsolute(Vec3(0.049, 0, 0));
+  HandSample h = handIn(pose, Vec3(0.049, 0, 0), Vec3(-0.049, 0, 0));
   GraspOutput out = grasp.step(h, 0);
   ASSERT_EQ(out.state, S::Grasp);
   const Mat3 rotation = out.poses[0].rotation;
@@ -810,10 +801,7 @@ TEST(TwoFingerGrasp, WristOnTheFingerLineKeepsTheLastFrame) {
   const Case s;
   TwoFingerGrasp grasp(sceneOf({cylinderFor(s)}));
   const PartPose pose{s.rotation, s.position};
-  HandSample h;
-  h.wrist = pose.pointToAbsolute(Vec3(0, -0.1, 0));
-  h.thumb = pose.pointToAbsolute(Vec3(-0.049, 0, 0));
-  h.index = pose.pointToAbsolute(Vec3(0.049, 0, 0));
+  HandSample h = handIn(pose, Vec3(0.049, 0, 0), Vec3(-0.049, 0, 0));
   GraspOutput out = grasp.step(h, 0);
   ASSERT_EQ(out.state, S::Grasp);
   // The wrist slides onto the fingertips' line (beyond the index) and stays there while
