@@ -583,6 +583,7 @@ class HidDeviceSession(unittest.TestCase):
         before = App.Placement(self.cylinder.Placement)
         s = self.spacemouse_session()
         self.assertIn("SpaceNavigator", s.core.device_name)
+        self.assertFalse(s.core.device_force_output)   # input only: forces computed, not displayed
         s.start()
         states = self.hold(s, 0.5)          # at rest, silent: not a fault
         self.assertEqual(s.fault, "none")
@@ -644,6 +645,7 @@ class HidDeviceSession(unittest.TestCase):
         origin = self.cylinder.Shape.BoundBox.Center + App.Vector(0, 0, 200)
         s.use_hid(layout, "", origin=origin)
         self.assertTrue(s.core.device_name.startswith("Generic 3-DOF force-feedback joystick"), s.core.device_name)
+        self.assertTrue(s.core.device_force_output)
         # wrist (10, -5, 0) mm on the stick (+100 mm of bias in z), trigger released
         report = _report(1, 1000, -500, 0) + bytes([0, 0, 0])
         self.feed.queue_report(self.PATH, report)   # streaming from the start (50 ms watchdog)

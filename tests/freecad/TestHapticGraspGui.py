@@ -493,12 +493,14 @@ class HapticGraspGui(unittest.TestCase):
                 hold(struct.pack("<Bhhh", 1, 0, 0, -175), 0.6)         # up
                 hold(struct.pack("<Bhhh", 1, 0, 0, 0), 0.3)
                 states = controller.session.state if controller.session else None
+                index_force = controller.panel.fields["index"].text()
                 moved_while_held = (cylinder.Placement.Base - before.Base).z
                 feed.remove_device(path)                               # unplugged mid-move
                 self._wait(2.5)
                 errors = list(log.errors)
             print("spacemouse in the GUI: state %s, part lifted %.1f mm before the unplug" % (states, moved_while_held))
             self.assertEqual(states, "MANIPULATE")
+            self.assertIn("not displayed: input-only device", index_force)
             self.assertGreater(moved_while_held, 10.0)
             self.assertIsNone(controller.session)        # the fault stopped it
             self.assertTrue(any("device fault (silent)" in e for e in errors), errors)

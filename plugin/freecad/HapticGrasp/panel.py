@@ -203,8 +203,10 @@ class HapticTaskPanel:
         forces = snap.get("forces")   # not exposed by the binding yet: shown as such
         if forces is not None:
             import FreeCAD as App
-            f["index"].setText(_vector_text(App.Vector(*forces[0])))
-            f["thumb"].setText(_vector_text(App.Vector(*forces[1])))
+            felt = getattr(session.core, "device_force_output", True)
+            note = "" if felt else "  (not displayed: input-only device)"
+            f["index"].setText(_vector_text(App.Vector(*forces[0])) + note)
+            f["thumb"].setText(_vector_text(App.Vector(*forces[1])) + note)
         else:
             f["index"].setText(NOT_EXPOSED)
             f["thumb"].setText(NOT_EXPOSED)

@@ -99,6 +99,13 @@ std::string Session::deviceName() const {
   return "none";
 }
 
+bool Session::deviceForceOutput() const {
+  if (handHold_s_ > 0) return HandInputDevice::defaultSpec().forceOutput;
+  if (script_) return servo::ScriptedHandDevice::defaultSpec().forceOutput;
+  if (hid_) return hid_->spec().forceOutput;
+  return false;
+}
+
 namespace {
 
 double* parameterField(grasp::GraspParameters& p, const std::string& name) {

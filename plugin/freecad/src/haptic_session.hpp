@@ -86,6 +86,9 @@ class Session {
   // bad layout, HidError as above.
   void useHid(const std::string& layoutFile, const std::string& path, const std::array<double, 3>& origin_mm);
   std::string deviceName() const;
+  // False for an input-only device (SpaceMouse, the hand input, a layout without a force
+  // output report): the snapshot's forces are computed but nobody feels them.
+  bool deviceForceOutput() const;
 
   // The force parameters the front end may set (SI): K_c, B_c, K_g, B_g, d_h, K_ox, K_oe.
   static const std::vector<std::string>& parameterNames();

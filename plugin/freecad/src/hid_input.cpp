@@ -123,11 +123,15 @@ std::string hidOpenAdvice(const device::HidDeviceInfo& info, const std::string& 
     denied = ::access(info.path.c_str(), R_OK | W_OK) != 0 && errno == EACCES;
   }
   if (denied) {
-    char vendor[8];
-    std::snprintf(vendor, sizeof vendor, "%04x", info.vendor_id);
+    std::string vendor;  // the rule names the vendor when it is known
+    if (info.vendor_id != 0) {
+      char id[8];
+      std::snprintf(id, sizeof id, "%04x", info.vendor_id);
+      vendor = std::string(", ATTRS{idVendor}==\"") + id + "\"";
+    }
     text = "permission denied on " + info.path + " (this user may not read and write it). Fix: a udev rule, " +
-           "e.g. as root: echo 'KERNEL==\"hidraw*\", ATTRS{idVendor}==\"" + vendor +
-           "\", MODE=\"0660\", TAG+=\"uaccess\"' > /etc/udev/rules.d/70-hapticgrasp.rules && "
+           "e.g. as root: echo 'KERNEL==\"hidraw*\"" + vendor +
+           ", MODE=\"0660\", TAG+=\"uaccess\"' > /etc/udev/rules.d/70-hapticgrasp.rules && "
            "udevadm control --reload && udevadm trigger; then unplug and replug the device. (" +
            reason + ")";
   }

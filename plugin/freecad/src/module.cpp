@@ -189,6 +189,8 @@ PYBIND11_MODULE(_hapticgrasp, m) {
            "matches), its frame's origin at origin_mm (document, mm). Raises LayoutError (a ValueError) for a bad "
            "layout, DeviceError as use_spacemouse.")
       .def_property_readonly("device_name", &freecad::Session::deviceName)
+      .def_property_readonly("device_force_output", &freecad::Session::deviceForceOutput,
+                             "False for an input-only device: the snapshot's forces are computed, not displayed.")
       .def(
           "set_parameters",
           [](freecad::Session& s, const py::dict& values) {
