@@ -216,10 +216,11 @@ def _mouse_hand_for(view, target):
 class MouseEvents:
     """Coin event callbacks on the 3D view feeding the controller's MouseHand: mouse motion
     moves it in the view plane, G held pinches, Esc cancels. The wheel moves it along the
-    view direction through a Qt event filter on the view's viewport: FreeCAD's navigation
-    styles take Coin's wheel event (SoMouseWheelEvent) for zooming before any scene-graph
-    callback sees it, so the filter takes the Qt wheel event first (and the camera does
-    not zoom while the hand runs). Removed by remove() (Stop)."""
+    view direction through a Qt event filter on the view's viewport: in FreeCAD 0.20.2 a
+    wheel event on the view never reached the scene-graph callback (the gui test saw the
+    hand stay put; the navigation style zooms with it), so the filter takes the Qt wheel
+    event first and consumes it (the camera does not zoom while the hand runs). Removed by
+    remove() (Stop)."""
 
     PINCH_KEY = "G"
     MM_PER_WHEEL_STEP = 10.0

@@ -29,8 +29,9 @@ def hid_choices(devices):
     return out
 
 
-def hid_message(devices, layout_errors):
-    """The panel's line about HID devices: what was found, or why nothing can be picked."""
+def hid_message(devices, problems):
+    """The panel's line about HID devices: what was found, or why nothing can be picked,
+    and the problems session.list_devices() reported."""
     lines = []
     usable = hid_choices(devices)
     if not devices:
@@ -38,7 +39,7 @@ def hid_message(devices, layout_errors):
     elif not usable:
         lines.append("%d HID device(s) attached, none a SpaceMouse or matched by a layout in "
                      "<FreeCAD user data>/HapticGrasp/devices/." % len(devices))
-    lines.extend("Layout not loaded: %s" % e for e in layout_errors)
+    lines.extend(problems)
     return "\n".join(lines)
 
 
@@ -98,7 +99,7 @@ class HapticTaskPanel:
             if not available:
                 self.device_combo.model().item(self.device_combo.count() - 1).setEnabled(False)
         # The HID devices actually attached (SpaceMouse, or matched by a layout).
-        devices, layout_errors = hs.list_devices()
+        devices, problems = hs.list_devices()
         self.layouts = {}   # device key -> layout file
         choices = hid_choices(devices)
         for key, title, layout_file in choices:
@@ -117,9 +118,11 @@ class HapticTaskPanel:
         self.device_combo.setCurrentIndex(max(0, chosen))
         if chosen < 0:
             self._device_changed(self.device_combo.currentIndex())
+        elif current in self.layouts:
+            controller.device_layout = self.layouts[current]
         self.device_combo.currentIndexChanged.connect(self._device_changed)
         grid.addRow("Input:", self.device_combo)
-        self.message = QtWidgets.QLabel(hid_message(devices, layout_errors))
+        self.message = QtWidgets.QLabel(hid_message(devices, problems))
         self.message.setObjectName("HapticGrasp_message")
         self.message.setWordWrap(True)
         from PySide2 import QtCore

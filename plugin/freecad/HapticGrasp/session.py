@@ -311,14 +311,14 @@ def layout_dirs():
 
 def list_devices():
     """The HID devices attached, each a dict (path, vendor_id, product_id, product,
-    manufacturer, backend "spacemouse" | "layout" | "none", model, layout file), and the
-    layout files that failed to load: (devices, layout_errors). Never raises: an
-    enumeration failure comes back as a layout error line."""
+    manufacturer, backend "spacemouse" | "layout" | "none", model, layout file), and what
+    went wrong, one line each (a layout file that did not load, an enumeration that
+    failed): (devices, problems). Never raises."""
     try:
         listing = core.list_devices(layout_dirs())
     except Exception as e:   # hidapi could not start
         return [], ["HID enumeration failed: %s" % e]
-    return listing["devices"], listing["layout_errors"]
+    return listing["devices"], ["layout not loaded: %s" % e for e in listing["layout_errors"]]
 
 
 def demo_script(obj, lift_mm=50.0, move_mm=(0.0, 100.0, 0.0), lift=True, turn_rad=0.0):
