@@ -4,6 +4,7 @@ updated by HapticSession.tick() as the GUI timer would.
 
 Run: `freecadcmd -t TestHapticGrasp` with the built package in the Mod folder
 (tests/freecad/run_freecadcmd.sh does that in a throw-away HOME)."""
+import math
 import os
 import sys
 import time
@@ -606,6 +607,29 @@ class HidDeviceSession(unittest.TestCase):
         self.assertGreater(moved.z, 10.0)
         self.assertAlmostEqual(moved.x, 0.0, delta=2.0)
         self.assertAlmostEqual(moved.y, 0.0, delta=2.0)
+        self.assertEqual(self.doc.UndoNames, ["Haptic move Cylinder"])
+
+    def test_twisting_the_spacemouse_cap_turns_the_part_in_one_undo_step(self):
+        before = App.Placement(self.cylinder.Placement)
+        s = self.spacemouse_session()
+        s.start()
+        states = self.hold(s, 1.0, _report(3, 1))                 # pinch
+        states += self.hold(s, 0.5, _report(1, 0, 0, -175))       # lift
+        states += self.hold(s, 0.2, _report(1, 0, 0, 0))
+        self.assertIn("MANIPULATE", states)
+        states += self.hold(s, 0.5, _report(2, 0, 0, -175))       # twist the cap about z
+        states += self.hold(s, 0.3, _report(2, 0, 0, 0))
+        self.assertEqual(states[-1], "MANIPULATE", states)
+        states += self.hold(s, 1.0, _report(3, 2))                # open
+        s.stop()
+        self.assertEqual(states[-1], "FREE", states)
+        turn = self.cylinder.Placement.Rotation.multiply(before.Rotation.inverted())   # absolute frame
+        axis = turn.Axis
+        angle = turn.Angle if turn.Angle <= math.pi else turn.Angle - 2 * math.pi   # FreeCAD gives [0, 2 pi)
+        degrees = math.degrees(angle) * (1 if axis.z >= 0 else -1)   # about +z
+        print("spacemouse twist: the part turned %.1f deg about (%.2f, %.2f, %.2f)" % (degrees, axis.x, axis.y, axis.z))
+        self.assertGreater(degrees, 5.0)                          # counter-clockwise seen from above
+        self.assertGreater(abs(axis.z), 0.9)                      # about the vertical
         self.assertEqual(self.doc.UndoNames, ["Haptic move Cylinder"])
 
     def test_a_spacemouse_unplugged_mid_move_aborts_and_restores_the_placement(self):
