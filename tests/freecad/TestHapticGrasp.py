@@ -4,6 +4,7 @@ updated by HapticSession.tick() as the GUI timer would.
 
 Run: `freecadcmd -t TestHapticGrasp` with the built package in the Mod folder
 (tests/freecad/run_freecadcmd.sh does that in a throw-away HOME)."""
+import math
 import os
 import sys
 import time
@@ -800,3 +801,184 @@ class MouseHandSession(unittest.TestCase):
         self.assertEqual(self.doc.UndoCount, 0)
         self.assertEqual(len(s.messages), 1, s.messages)
         self.assertIn("cancelled", s.messages[0])
+
+
+def _report(report_id, *values):
+    """A SpaceMouse-style report: the ID, then int16 little-endian values."""
+    import struct
+    return bytes([report_id]) + struct.pack("<%dh" % len(values), *values)
+
+
+class HidDeviceSession(unittest.TestCase):
+    """SpaceMouse and HID layout devices through the module's in-process fake transport
+    (core._use_fake_hid(), test only: this kernel cannot make virtual HID devices); the
+    servo thread reads them while the test feeds reports and ticks the document."""
+
+    PATH = "/dev/hidraw-test0"
+
+    def setUp(self):
+        HapticGraspDocument.setUp(self)
+        self.feed = core._use_fake_hid()
+
+    def tearDown(self):
+        core._use_real_hid()
+        HapticGraspDocument.tearDown(self)
+
+    def add_spacemouse(self):
+        self.feed.add_device(self.PATH, 0x046D, 0xC626, "SpaceNavigator")
+
+    def hold(self, s, seconds, report=None, every=0.05):
+        """Ticks the document for `seconds`, sending `report` every `every` s (a deflected
+        cap repeats its report). Returns the states seen."""
+        states = []
+        end = time.monotonic() + seconds
+        sent = 0.0
+        while time.monotonic() < end and s.running:
+            if report is not None and time.monotonic() - sent >= every:
+                self.feed.queue_report(self.PATH, report)
+                sent = time.monotonic()
+            state = s.tick()["state"]
+            if not states or states[-1] != state:
+                states.append(state)
+            time.sleep(TICK_S)
+        return states
+
+    def spacemouse_session(self):
+        self.add_spacemouse()
+        self.session = s = hs.HapticSession(self.doc)
+        box = self.cylinder.Shape.BoundBox
+        # The grip (along y) open around the cylinder's length, closing fully, as the GUI does.
+        s.use_spacemouse("", start=box.Center, open_mm=box.YLength + 40.0, closed_mm=0.0)
+        return s
+
+    def test_the_attached_devices_are_listed_with_their_back_end(self):
+        self.add_spacemouse()
+        self.feed.add_device("/dev/hidraw-test1", 0x1209, 0x0001, "FF stick")
+        self.feed.add_device("/dev/hidraw-test2", 0x1234, 0x5678, "keyboard")
+        devices, errors = hs.list_devices()
+        self.assertEqual(errors, [])
+        self.assertEqual([(d["path"], d["backend"]) for d in devices],
+                         [(self.PATH, "spacemouse"), ("/dev/hidraw-test1", "layout"), ("/dev/hidraw-test2", "none")])
+        self.assertEqual(devices[0]["model"], "SpaceNavigator")
+        self.assertTrue(devices[1]["layout"].endswith("ff_joystick_3dof.json"), devices[1])
+        from HapticGrasp import panel as hpanel
+        self.assertEqual([key for key, _, _ in hpanel.hid_choices(devices)],
+                         ["spacemouse:" + self.PATH, "hid:/dev/hidraw-test1"])
+        self.assertIn("No SpaceMouse or HID device attached", hpanel.hid_message([], []))
+
+    def test_a_spacemouse_grasps_lifts_and_releases_the_part_in_one_undo_step(self):
+        before = App.Placement(self.cylinder.Placement)
+        s = self.spacemouse_session()
+        self.assertIn("SpaceNavigator", s.core.device_name)
+        self.assertFalse(s.core.device_force_output)   # input only: forces computed, not displayed
+        s.start()
+        states = self.hold(s, 0.5)          # at rest, silent: not a fault
+        self.assertEqual(s.fault, "none")
+        self.assertEqual(states, ["FREE"])
+        start = s.hand_at(0)[2]             # the wrist, from the snapshot
+        states += self.hold(s, 1.0, _report(3, 1))            # button 1: pinch
+        self.assertIn("GRASP", states)
+        states += self.hold(s, 0.7, _report(1, 0, 0, -175))   # cap pulled up: the hand rises
+        states += self.hold(s, 0.3, _report(1, 0, 0, 0))      # let go of the cap
+        self.assertIn("MANIPULATE", states)
+        lifted = s.hand_at(0)[2].z - start.z
+        states += self.hold(s, 1.0, _report(3, 2))            # button 2: open
+        s.stop()
+        self.assertEqual(states[-1], "FREE", states)
+        self.assertEqual(s.fault, "none")
+        moved = self.cylinder.Placement.Base - before.Base
+        print("spacemouse: hand lifted %.1f mm, part moved by (%.3f, %.3f, %.3f) mm, states %s"
+              % (lifted, moved.x, moved.y, moved.z, states))
+        self.assertGreater(lifted, 20.0)
+        self.assertGreater(moved.z, 10.0)
+        self.assertAlmostEqual(moved.x, 0.0, delta=2.0)
+        self.assertAlmostEqual(moved.y, 0.0, delta=2.0)
+        self.assertEqual(self.doc.UndoNames, ["Haptic move Cylinder"])
+
+    def test_twisting_the_spacemouse_cap_turns_the_part_in_one_undo_step(self):
+        before = App.Placement(self.cylinder.Placement)
+        s = self.spacemouse_session()
+        s.start()
+        states = self.hold(s, 1.0, _report(3, 1))                 # pinch
+        states += self.hold(s, 0.5, _report(1, 0, 0, -175))       # lift
+        states += self.hold(s, 0.2, _report(1, 0, 0, 0))
+        self.assertIn("MANIPULATE", states)
+        states += self.hold(s, 0.5, _report(2, 0, 0, -175))       # twist the cap about z
+        states += self.hold(s, 0.3, _report(2, 0, 0, 0))
+        self.assertEqual(states[-1], "MANIPULATE", states)
+        states += self.hold(s, 1.0, _report(3, 2))                # open
+        s.stop()
+        self.assertEqual(states[-1], "FREE", states)
+        turn = self.cylinder.Placement.Rotation.multiply(before.Rotation.inverted())   # absolute frame
+        axis = turn.Axis
+        angle = turn.Angle if turn.Angle <= math.pi else turn.Angle - 2 * math.pi   # FreeCAD gives [0, 2 pi)
+        degrees = math.degrees(angle) * (1 if axis.z >= 0 else -1)   # about +z
+        print("spacemouse twist: the part turned %.1f deg about (%.2f, %.2f, %.2f)" % (degrees, axis.x, axis.y, axis.z))
+        self.assertGreater(degrees, 5.0)                          # counter-clockwise seen from above
+        self.assertGreater(abs(axis.z), 0.9)                      # about the vertical
+        self.assertEqual(self.doc.UndoNames, ["Haptic move Cylinder"])
+
+    def test_a_spacemouse_unplugged_mid_move_aborts_and_restores_the_placement(self):
+        before = App.Placement(self.cylinder.Placement)
+        s = self.spacemouse_session()
+        s.start()
+        states = self.hold(s, 1.0, _report(3, 1))
+        states += self.hold(s, 0.5, _report(1, 0, 0, -175))
+        self.assertIn("MANIPULATE", states)
+        self.assertIsNotNone(s.active)
+        self.feed.remove_device(self.PATH)   # read errors from now on
+        self.hold(s, 3.0)
+        self.assertFalse(s.running)
+        self.assertEqual(s.aborted, 1)
+        self.assertTrue(hs.same_placement(self.cylinder.Placement, before), self.cylinder.Placement)
+        self.assertEqual(self.doc.UndoCount, 0)
+        self.assertIn("device fault (silent)", s.messages[-1])
+
+    def test_picking_a_spacemouse_with_none_attached_says_so_and_keeps_the_device(self):
+        self.session = s = hs.HapticSession(self.doc)
+        s.use_hand_input()
+        with self.assertRaises(core.DeviceError) as caught:
+            s.use_spacemouse("")
+        self.assertIsInstance(caught.exception, RuntimeError)
+        self.assertIn("no SpaceMouse attached", str(caught.exception))
+        self.assertEqual(s.core.device_name, "hand input")
+        with self.assertRaises(RuntimeError) as caught:
+            s.use_spacemouse("/dev/hidraw-none")
+        self.assertIn("/dev/hidraw-none", str(caught.exception))
+        self.assertEqual(s.core.device_name, "hand input")
+        self.assertEqual(self.doc.UndoCount, 0)
+
+    def test_a_hid_layout_device_places_its_hand_at_the_origin_given(self):
+        self.feed.add_device(self.PATH, 0x1209, 0x0001, "FF stick")
+        layout = os.path.join(hs.layout_dirs()[0], "ff_joystick_3dof.json")
+        self.session = s = hs.HapticSession(self.doc)
+        origin = self.cylinder.Shape.BoundBox.Center + App.Vector(0, 0, 200)
+        s.use_hid(layout, "", origin=origin)
+        self.assertTrue(s.core.device_name.startswith("Generic 3-DOF force-feedback joystick"), s.core.device_name)
+        self.assertTrue(s.core.device_force_output)
+        # wrist (10, -5, 0) mm on the stick (+100 mm of bias in z), trigger released
+        report = _report(1, 1000, -500, 0) + bytes([0, 0, 0])
+        self.feed.queue_report(self.PATH, report)   # streaming from the start (50 ms watchdog)
+        s.start()
+        self.hold(s, 0.3, report, every=0.01)
+        wrist = s.hand_at(0)[2]
+        s.stop()
+        expected = origin + App.Vector(10, -5, 100)
+        self.assertLess((wrist - expected).Length, 1e-6, (wrist, expected))
+
+    def test_a_bad_layout_is_refused_naming_the_field(self):
+        import json
+        import tempfile
+        layout = json.load(open(os.path.join(hs.layout_dirs()[0], "ff_joystick_3dof.json")))
+        layout["fields"][1]["offset"] = 99
+        with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
+            json.dump(layout, f)
+        self.feed.add_device(self.PATH, 0x1209, 0x0001, "FF stick")
+        self.session = s = hs.HapticSession(self.doc)
+        try:
+            with self.assertRaises(ValueError) as caught:
+                s.use_hid(f.name)
+        finally:
+            os.unlink(f.name)
+        self.assertIn("fields[1]", str(caught.exception))
+        self.assertEqual(s.core.device_name, "none")

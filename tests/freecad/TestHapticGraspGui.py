@@ -269,6 +269,345 @@ class HapticGraspGui(unittest.TestCase):
             panel.reject()
             QtWidgets.QApplication.processEvents()
 
+    # --- the mouse hand through the live Qt -> Coin event path ---------------------------
+    def _cylinder_doc(self, name):
+        doc = App.newDocument(name)
+        doc.UndoMode = 1
+        cylinder = doc.addObject("Part::Feature", "Cylinder")
+        shape = Part.Shape()
+        shape.importBrep(os.path.join(RESOURCES, "parts", "cylinder.brep"))
+        cylinder.Shape = shape
+        cylinder.Placement = App.Placement(App.Vector(400, 0, 300), App.Rotation(App.Vector(1, 0, 0), -90))
+        doc.recompute()
+        doc.clearUndos()
+        Gui.ActiveDocument.ActiveView.viewFront()   # right = +x, up = +z, into the screen = +y
+        Gui.SendMsgToActiveView("ViewFit")
+        return doc, cylinder
+
+    def _start_mouse_hand(self):
+        from PySide2 import QtWidgets
+        Gui.activateWorkbench("HapticGraspWorkbench")
+        controller = hgui._HapticGraspController
+        controller.device = "mouse"
+        self._start_and_build()
+        self.assertIsNotNone(controller.session)
+        self.assertIsNotNone(controller.events)
+        self._wait(0.2)
+        QtWidgets.QApplication.processEvents()
+        return controller
+
+    def _start_and_build(self, timeout_s=120):
+        """The Start command, then the GUI's events until the models are built and the
+        device is chosen (Start builds them on a worker while the timer keeps ticking)."""
+        from PySide2 import QtWidgets
+        controller = hgui._HapticGraspController
+        Gui.runCommand("HapticGrasp_Start")
+        deadline = time.monotonic() + timeout_s
+        while controller.session is not None and not controller.session.ready and time.monotonic() < deadline:
+            QtWidgets.QApplication.processEvents()
+            time.sleep(0.005)
+
+    @staticmethod
+    def _wait(seconds):
+        from PySide2 import QtWidgets
+        end = time.monotonic() + seconds
+        while time.monotonic() < end:
+            QtWidgets.QApplication.processEvents()
+            time.sleep(0.005)
+
+    @staticmethod
+    def _widgets():
+        """The 3D view's QGraphicsView (key events) and its viewport (mouse and wheel)."""
+        view = Gui.ActiveDocument.ActiveView.graphicsView()
+        return view, view.viewport()
+
+    def _move_mouse(self, x, y):
+        from PySide2 import QtCore, QtGui, QtWidgets
+        _, viewport = self._widgets()
+        event = QtGui.QMouseEvent(QtCore.QEvent.MouseMove, QtCore.QPointF(x, y), QtCore.Qt.NoButton,
+                                  QtCore.Qt.NoButton, QtCore.Qt.NoModifier)
+        QtWidgets.QApplication.sendEvent(viewport, event)
+
+    def _wheel(self, notches, x, y):
+        from PySide2 import QtCore, QtGui, QtWidgets
+        _, viewport = self._widgets()
+        event = QtGui.QWheelEvent(QtCore.QPointF(x, y), QtCore.QPointF(viewport.mapToGlobal(QtCore.QPoint(x, y))),
+                                  QtCore.QPoint(0, 0), QtCore.QPoint(0, 120 * notches), QtCore.Qt.NoButton,
+                                  QtCore.Qt.NoModifier, QtCore.Qt.NoScrollPhase, False)
+        QtWidgets.QApplication.sendEvent(viewport, event)
+
+    def _key(self, key, press):
+        from PySide2 import QtCore, QtGui, QtWidgets
+        view, _ = self._widgets()
+        kind = QtCore.QEvent.KeyPress if press else QtCore.QEvent.KeyRelease
+        text = {QtCore.Qt.Key_G: "g", QtCore.Qt.Key_Escape: "\x1b"}.get(key, "")
+        QtWidgets.QApplication.sendEvent(view, QtGui.QKeyEvent(kind, key, QtCore.Qt.NoModifier, text))
+
+    @staticmethod
+    def _mm_per_px(x, y):
+        view = Gui.ActiveDocument.ActiveView
+        return (view.getPoint(x + 1, y) - view.getPoint(x, y)).Length
+
+    @staticmethod
+    def _snapshot_hand(controller):
+        index, thumb, wrist = (App.Vector(*p) for p in controller.session.core.snapshot()["hand"])
+        return (index + thumb) * 0.5, (index - thumb).Length
+
+    def test_mouse_wheel_and_key_events_on_the_3d_view_move_the_hand(self):
+        from PySide2 import QtCore
+        doc, cylinder = self._cylinder_doc("HapticGraspMouseEvents")
+        controller = None
+        with _ErrorLog() as log:
+            try:
+                controller = self._start_mouse_hand()
+                x, y = 300, 300
+                scale = self._mm_per_px(x, y)
+                self.assertGreater(scale, 0)
+                # View plane: 40 px right and 20 px up (Qt's y points down).
+                self._move_mouse(x, y)
+                self._wait(0.1)
+                centre0, grip0 = self._snapshot_hand(controller)
+                self._move_mouse(x + 40, y - 20)
+                self._wait(0.3)
+                centre1, grip1 = self._snapshot_hand(controller)
+                moved = centre1 - centre0
+                # Coin sees device pixels (Qt's logical pixels times the device pixel ratio,
+                # 1.04 under this Xvfb): the hand follows the cursor's point on the focal
+                # plane, to within the one pixel Coin's integer positions round off.
+                # (getPoint takes device pixels from the bottom left, as Coin does.)
+                dpr = self._widgets()[1].devicePixelRatioF()
+                view = Gui.ActiveDocument.ActiveView
+                height = view.getSize()[1]
+
+                def focal(qx, qy):
+                    return view.getPoint(int(round(qx * dpr)), height - int(round(qy * dpr)))
+
+                expected = focal(x + 40, y - 20) - focal(x, y)
+                print("mouse events: %.4f mm/px, device pixel ratio %.3f, hand moved (%.3f, %.3f, %.3f) mm, "
+                      "the cursor's point (%.3f, %.3f, %.3f) mm"
+                      % (scale, dpr, moved.x, moved.y, moved.z, expected.x, expected.y, expected.z))
+                self.assertGreater(moved.x, 0)                              # right = +x
+                self.assertGreater(moved.z, 0)                              # up = +z
+                self.assertAlmostEqual(moved.x, expected.x, delta=1.01 * scale)
+                self.assertAlmostEqual(moved.z, expected.z, delta=1.01 * scale)
+                self.assertAlmostEqual(moved.y, 0.0, delta=1e-6)            # in the view plane
+                # Depth: one wheel notch away from the user pushes the hand 10 mm into the screen.
+                camera = Gui.ActiveDocument.ActiveView.getCamera()
+                self._wheel(1, x + 40, y - 20)
+                self._wait(0.3)
+                self.assertEqual(Gui.ActiveDocument.ActiveView.getCamera(), camera)   # no zoom
+                centre2, _ = self._snapshot_hand(controller)
+                depth = centre2 - centre1
+                self.assertAlmostEqual(depth.y, hgui.MouseEvents.MM_PER_WHEEL_STEP, delta=1e-6)
+                self.assertAlmostEqual(depth.x, 0.0, delta=1e-6)
+                self.assertAlmostEqual(depth.z, 0.0, delta=1e-6)
+                # Pinch: G held closes the grip, released opens it again.
+                self._key(QtCore.Qt.Key_G, True)
+                self._wait(0.5)
+                _, pinched = self._snapshot_hand(controller)
+                self._key(QtCore.Qt.Key_G, False)
+                self._wait(0.5)
+                _, reopened = self._snapshot_hand(controller)
+                print("pinch: grip %.1f -> %.1f -> %.1f mm" % (grip1, pinched, reopened))
+                self.assertLess(pinched, grip1 - 5.0)
+                self.assertGreater(reopened, pinched + 5.0)
+                self.assertEqual(controller.session.fault, "none")
+            finally:
+                if controller is not None:
+                    controller.stop()
+                    if controller.panel is not None:
+                        controller.panel.reject()
+                    controller.device = "demo"
+                self._wait(0.1)
+        self.assertEqual(log.errors, [])
+        self.assertEqual(doc.UndoCount, 0)
+        App.closeDocument(doc.Name)
+
+    def _grasp_and_lift_with_events(self, controller, cylinder):
+        """Hand open around the cylinder (set directly), then real events: G pinches, the
+        mouse lifts the hand 50 mm in small steps, until the part is being moved."""
+        from PySide2 import QtCore
+        box = cylinder.Shape.BoundBox
+        controller.hand.centre = tuple(box.Center)
+        controller.hand.grip = box.XLength + 10.0
+        x, y = 300, 300
+        self._move_mouse(x, y)
+        self._key(QtCore.Qt.Key_G, True)
+        self._wait(1.2)
+        steps = 10
+        dy = max(1, int(round(50.0 / self._mm_per_px(x, y) / steps)))
+        for i in range(steps):
+            y -= dy
+            self._move_mouse(x, y)
+            self._wait(0.06)
+        self._wait(0.3)
+        self.assertEqual(controller.session.state, "MANIPULATE")
+        self.assertIsNotNone(controller.session.active)
+
+    def _assert_back_and_clean(self, doc, cylinder, before, log):
+        self.assertIsNone(hgui._HapticGraspController.session)
+        self.assertTrue(hs.same_placement(cylinder.Placement, before), cylinder.Placement)
+        self.assertEqual(doc.UndoCount, 0)
+        self.assertFalse(doc.HasPendingTransaction)
+        self.assertEqual(log.errors, [])
+
+    def test_esc_mid_move_puts_the_part_back_with_no_transaction_left(self):
+        from PySide2 import QtCore
+        doc, cylinder = self._cylinder_doc("HapticGraspEsc")
+        before = App.Placement(cylinder.Placement)
+        controller = None
+        with _ErrorLog() as log:
+            try:
+                controller = self._start_mouse_hand()
+                self._grasp_and_lift_with_events(controller, cylinder)
+                self.assertGreater((cylinder.Placement.Base - before.Base).Length, 5.0)
+                self._key(QtCore.Qt.Key_Escape, True)
+                self._key(QtCore.Qt.Key_Escape, False)
+                self._wait(0.3)
+            finally:
+                if controller is not None:
+                    controller.stop()
+                    if controller.panel is not None:
+                        controller.panel.reject()
+                    controller.device = "demo"
+                self._wait(0.1)
+        self._assert_back_and_clean(doc, cylinder, before, log)
+        App.closeDocument(doc.Name)
+
+    def test_closing_the_panel_mid_move_puts_the_part_back_with_no_transaction_left(self):
+        from PySide2 import QtWidgets
+        doc, cylinder = self._cylinder_doc("HapticGraspClose")
+        before = App.Placement(cylinder.Placement)
+        controller = None
+        with _ErrorLog() as log:
+            try:
+                controller = self._start_mouse_hand()
+                self._grasp_and_lift_with_events(controller, cylinder)
+                self.assertIsNotNone(controller.panel)
+                # The task dialog's own Close button, as the user clicks it.
+                close = None
+                for box in Gui.getMainWindow().findChildren(QtWidgets.QDialogButtonBox):
+                    button = box.button(QtWidgets.QDialogButtonBox.Close)
+                    if button is not None and button.isVisible():
+                        close = button
+                self.assertIsNotNone(close, "no Close button in the task view")
+                close.click()
+                self._wait(0.3)
+                self.assertIsNone(controller.panel)
+            finally:
+                if controller is not None:
+                    controller.stop()
+                    if controller.panel is not None:
+                        controller.panel.reject()
+                    controller.device = "demo"
+                self._wait(0.1)
+        self._assert_back_and_clean(doc, cylinder, before, log)
+        self.assertFalse(Gui.Control.activeDialog())
+        App.closeDocument(doc.Name)
+
+    # --- HID devices in the picker (the module's fake transport, test only) --------------
+    def test_the_picker_lists_an_attached_spacemouse_and_says_when_none_is(self):
+        from PySide2 import QtWidgets
+        from HapticGrasp import _hapticgrasp as core
+        from HapticGrasp import panel as hpanel
+        Gui.activateWorkbench("HapticGraspWorkbench")
+        controller = hgui._HapticGraspController
+        feed = core._use_fake_hid()
+        try:
+            panel = controller.show_panel()   # nothing attached
+            combo = panel.form.findChild(QtWidgets.QComboBox, "HapticGrasp_DeviceCombo")
+            none = combo.findText(hpanel.NO_HID)
+            self.assertGreaterEqual(none, 0)
+            self.assertFalse(combo.model().item(none).isEnabled())
+            self.assertIn("No SpaceMouse or HID device attached", panel.message.text())
+            panel.reject()
+            QtWidgets.QApplication.processEvents()
+            feed.add_device("/dev/hidraw-test0", 0x046D, 0xC626, "SpaceNavigator")
+            panel = controller.show_panel()
+            combo = panel.form.findChild(QtWidgets.QComboBox, "HapticGrasp_DeviceCombo")
+            item = combo.findData("spacemouse:/dev/hidraw-test0")
+            self.assertGreaterEqual(item, 0)
+            self.assertTrue(combo.model().item(item).isEnabled())
+            self.assertEqual(combo.itemText(item), "SpaceMouse SpaceNavigator (/dev/hidraw-test0)")
+            combo.setCurrentIndex(item)
+            self.assertEqual(controller.device, "spacemouse:/dev/hidraw-test0")
+            panel.reject()
+            QtWidgets.QApplication.processEvents()
+        finally:
+            controller.device = "demo"
+            if controller.panel is not None:
+                controller.panel.reject()
+            core._use_real_hid()
+
+    def test_a_spacemouse_in_the_gui_moves_the_part_and_an_unplugged_one_is_reported(self):
+        import struct
+        from PySide2 import QtWidgets
+        from HapticGrasp import _hapticgrasp as core
+        doc, cylinder = self._cylinder_doc("HapticGraspSpaceMouse")
+        before = App.Placement(cylinder.Placement)
+        controller = hgui._HapticGraspController
+        path = "/dev/hidraw-test0"
+        feed = core._use_fake_hid()
+        errors = []
+        try:
+            Gui.activateWorkbench("HapticGraspWorkbench")
+            controller.device = "spacemouse:" + path   # attached later: Start says why not
+            with _ErrorLog() as log:
+                self._start_and_build()
+                errors = list(log.errors)
+            self.assertIsNone(controller.session)
+            self.assertEqual(len(errors), 1, errors)
+            self.assertIn(path, errors[0])
+            self.assertIn(path, controller.panel.message.text())
+            self.assertTrue(hs.same_placement(cylinder.Placement, before))
+            feed.add_device(path, 0x046D, 0xC626, "SpaceNavigator")
+            with _ErrorLog() as log:
+                self._start_and_build()
+                self.assertIsNotNone(controller.session)
+                self.assertIn("SpaceNavigator", controller.session.core.device_name)
+                self._wait(1.5)   # at rest (silent) longer than its 1 s timeout: no fault
+                self.assertEqual(controller.session.fault, "none")
+                # Straight down onto the cylinder (hand above it), pinch, lift.
+                box = cylinder.Shape.BoundBox
+                start_z = controller.session.hand_at(0)[2].z
+                drop = start_z - box.Center.z        # the grip centre from above to the centre
+
+                def hold(report, seconds):
+                    end = time.monotonic() + seconds
+                    while time.monotonic() < end and controller.session is not None:
+                        feed.queue_report(path, report)
+                        self._wait(0.05)
+
+                # full deflection down: 150 mm/s; stop a little early, then let go
+                hold(struct.pack("<Bhhh", 1, 0, 0, 350), max(0.0, drop / 150.0 - 0.02))
+                hold(struct.pack("<Bhhh", 1, 0, 0, 0), 0.2)
+                hold(bytes([3, 1]), 1.2)                               # button 1: pinch
+                hold(struct.pack("<Bhhh", 1, 0, 0, -175), 0.6)         # up
+                hold(struct.pack("<Bhhh", 1, 0, 0, 0), 0.3)
+                states = controller.session.state if controller.session else None
+                index_force = controller.panel.fields["index"].text()
+                moved_while_held = (cylinder.Placement.Base - before.Base).z
+                feed.remove_device(path)                               # unplugged mid-move
+                self._wait(2.5)
+                errors = list(log.errors)
+            print("spacemouse in the GUI: state %s, part lifted %.1f mm before the unplug" % (states, moved_while_held))
+            self.assertEqual(states, "MANIPULATE")
+            self.assertIn("not displayed: input-only device", index_force)
+            self.assertGreater(moved_while_held, 10.0)
+            self.assertIsNone(controller.session)        # the fault stopped it
+            self.assertTrue(any("device fault (silent)" in e for e in errors), errors)
+            self.assertTrue(hs.same_placement(cylinder.Placement, before), cylinder.Placement)
+            self.assertEqual(doc.UndoCount, 0)
+            self.assertFalse(doc.HasPendingTransaction)
+        finally:
+            controller.stop()
+            controller.device = "demo"
+            if controller.panel is not None:
+                controller.panel.reject()
+            core._use_real_hid()
+            self._wait(0.1)
+        App.closeDocument(doc.Name)
+
     @staticmethod
     def _overlay_nodes():
         from pivy import coin

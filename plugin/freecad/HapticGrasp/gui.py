@@ -16,7 +16,9 @@ class _HapticGraspController:
     overlay = None    # the Coin overlay (HapticOverlay), present while running
     sounds = None     # SoundBoard, created once
     last_state = "FREE"
-    device = "demo"   # the panel's device choice: "demo" (scripted hand) or "mouse"
+    device = "demo"   # the panel's device choice: "demo" (scripted hand), "mouse",
+    #                   "spacemouse:<path>" or "hid:<path>" (an attached HID device)
+    device_layout = ""  # the layout file of a "hid:" device
     hand = None       # MouseHand while the mouse-and-keyboard device runs
     hand_clock = None
     events = None     # MouseEvents (Coin callbacks on the 3D view) while it runs
@@ -92,6 +94,10 @@ class _HapticGraspController:
             cls.hand = _mouse_hand_for(view, target)
             cls.hand_clock = time.monotonic()
             cls.events = MouseEvents(view, cls)
+        elif cls.device.startswith(("spacemouse:", "hid:")):
+            if not cls._use_hid_device(session, target):
+                cls.stop()   # nothing started, the document untouched; the panel says why
+                return
         else:
             # The scripted demo hand grasping the selected part (or the first solid),
             # lifting it, carrying it 100 mm along y, putting it down.
@@ -111,6 +117,7 @@ class _HapticGraspController:
         cls.show_panel()
         if cls.panel is not None:
             cls.panel.set_running(True)
+            cls.panel.show_message("")   # an earlier "cannot use ..." no longer applies
         if view is not None and hasattr(view, "getSceneGraph"):
             try:
                 from . import overlay as hoverlay
@@ -119,6 +126,30 @@ class _HapticGraspController:
                 App.Console.PrintWarning("HapticGrasp: no 3D overlay: %s\n" % e)
                 cls.overlay = None
         App.Console.PrintMessage("HapticGrasp: started with %d part(s)\n" % len(session.objects))
+
+    @classmethod
+    def _use_hid_device(cls, session, target):
+        """Opens the picked SpaceMouse / HID device for `session`, its hand starting above
+        `target` (a SpaceMouse: grip centre half the part's size + 20 mm above its centre,
+        open wider than the part; a layout: the device frame's origin at the part's centre).
+        False, with the reason in the report view and the panel, when it cannot be opened."""
+        kind, path = cls.device.split(":", 1)
+        box = target.Shape.BoundBox
+        size = box.DiagonalLength
+        try:
+            if kind == "spacemouse":
+                session.use_spacemouse(path, start=box.Center + App.Vector(0, 0, 0.5 * size + 20.0),
+                                       open_mm=size + 40.0, closed_mm=0.0)
+            else:
+                session.use_hid(cls.device_layout, path, origin=box.Center)
+        except (RuntimeError, ValueError) as e:   # core.DeviceError / core.LayoutError
+            text = "cannot use %s: %s" % (path, e)
+            App.Console.PrintError("HapticGrasp: %s\n" % text)
+            cls.show_panel()
+            if cls.panel is not None:
+                cls.panel.show_message(text)
+            return False
+        return True
 
     @classmethod
     def tick(cls):
@@ -230,8 +261,12 @@ def _mouse_hand_for(view, target):
 
 class MouseEvents:
     """Coin event callbacks on the 3D view feeding the controller's MouseHand: mouse motion
-    moves it in the view plane, the wheel along the view direction, G held pinches, Esc
-    cancels. Removed by remove() (Stop)."""
+    moves it in the view plane, G held pinches, Esc cancels. The wheel moves it along the
+    view direction through a Qt event filter on the view's viewport: in FreeCAD 0.20.2 a
+    wheel event on the view never reached the scene-graph callback (the gui test saw the
+    hand stay put; the navigation style zooms with it), so the filter takes the Qt wheel
+    event first and consumes it (the camera does not zoom while the hand runs). Removed by
+    remove() (Stop)."""
 
     PINCH_KEY = "G"
     MM_PER_WHEEL_STEP = 10.0
@@ -248,8 +283,27 @@ class MouseEvents:
                               (coin.SoKeyboardEvent, self._key)):
             type_id = kind.getClassTypeId()
             self.callbacks.append((type_id, view.addEventCallbackPivy(type_id, handler)))
+        self.viewport = None
+        self.wheel_filter = None
+        if hasattr(view, "graphicsView"):
+            self.viewport = view.graphicsView().viewport()
+            self.wheel_filter = _wheel_filter(self)
+            self.viewport.installEventFilter(self.wheel_filter)
+
+    def wheel(self, notches):
+        """Wheel turned away from the user (notches > 0): the hand goes into the screen."""
+        hand = self.controller.hand
+        if hand is not None and notches:
+            hand.wheel(notches, self._camera()[2], self.MM_PER_WHEEL_STEP)
 
     def remove(self):
+        if self.wheel_filter is not None:
+            try:
+                self.viewport.removeEventFilter(self.wheel_filter)
+            except Exception:   # the view was closed meanwhile
+                pass
+            self.wheel_filter = None
+            self.viewport = None
         for type_id, callback in self.callbacks:
             try:
                 self.view.removeEventCallbackPivy(type_id, callback)
@@ -283,9 +337,11 @@ class MouseEvents:
         event = node.getEvent()
         if hand is None or event.getState() != coin.SoButtonEvent.DOWN:
             return
+        # A Coin without SoMouseWheelEvent sends the wheel as buttons 4 and 5 (the Qt filter
+        # takes it first where it is installed).
         steps = {coin.SoMouseButtonEvent.BUTTON4: 1, coin.SoMouseButtonEvent.BUTTON5: -1}.get(event.getButton())
         if steps is not None:
-            hand.wheel(steps, self._camera()[2], self.MM_PER_WHEEL_STEP)
+            self.wheel(steps)
             node.setHandled()   # the hand moves, not the camera
 
     def _key(self, node):
@@ -300,6 +356,24 @@ class MouseEvents:
         elif key == getattr(coin.SoKeyboardEvent, self.PINCH_KEY) and self.controller.hand is not None:
             self.controller.hand.pinch(down)
             node.setHandled()
+
+
+def _wheel_filter(events):
+    """A QObject whose eventFilter turns the viewport's wheel events into events.wheel()
+    (angleDelta 120 = one notch) and consumes them."""
+    from PySide2 import QtCore
+
+    class WheelFilter(QtCore.QObject):
+        def eventFilter(self, watched, event):
+            if event.type() != QtCore.QEvent.Wheel or events.controller.hand is None:
+                return False
+            try:
+                events.wheel(event.angleDelta().y() / 120.0)
+            except Exception as e:   # never let an exception escape into Qt
+                App.Console.PrintError("HapticGrasp: wheel: %s\n" % e)
+            return True
+
+    return WheelFilter()
 
 
 class _StartCommand:

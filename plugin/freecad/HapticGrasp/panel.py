@@ -4,19 +4,43 @@ import time
 
 NOT_EXPOSED = "n/a (not in the core snapshot)"
 
-# (key, title, the core's Session method that binds the device); a device whose method the
-# built module lacks is listed, disabled, as "(not available in this build)".
+# The built-in inputs: (key, title, the core's Session method that binds the device).
 DEVICES = (
     ("demo", "Demo script", "set_hand_script"),
     ("mouse", "Mouse and keyboard", "use_hand_input"),
-    ("spacemouse", "SpaceMouse", "use_spacemouse"),
-    ("hid", "HID layout", "use_hid"),
 )
+NO_HID = "SpaceMouse / HID: none attached"
 
 
 def available_devices(core_session_class):
-    """[(key, title, available)] for the combo."""
+    """[(key, title, available)] of the built-in inputs."""
     return [(key, title, hasattr(core_session_class, method)) for key, title, method in DEVICES]
+
+
+def hid_choices(devices):
+    """[(key, title, layout file)] of the attached HID devices a back end can drive: keys
+    "spacemouse:<path>" and "hid:<path>" (the controller's device)."""
+    out = []
+    for d in devices:
+        if d["backend"] == "spacemouse":
+            out.append(("spacemouse:" + d["path"], "SpaceMouse %s (%s)" % (d["model"], d["path"]), ""))
+        elif d["backend"] == "layout":
+            out.append(("hid:" + d["path"], "HID: %s (%s)" % (d["model"], d["path"]), d["layout"]))
+    return out
+
+
+def hid_message(devices, problems):
+    """The panel's line about HID devices: what was found, or why nothing can be picked,
+    and the problems session.list_devices() reported."""
+    lines = []
+    usable = hid_choices(devices)
+    if not devices:
+        lines.append("No SpaceMouse or HID device attached (plug one in, then reopen this panel).")
+    elif not usable:
+        lines.append("%d HID device(s) attached, none a SpaceMouse or matched by a layout in "
+                     "<FreeCAD user data>/HapticGrasp/devices/." % len(devices))
+    lines.extend(problems)
+    return "\n".join(lines)
 
 
 def _vector_text(v):
@@ -74,10 +98,36 @@ class HapticTaskPanel:
             self.device_combo.addItem(title if available else title + " (not available in this build)", key)
             if not available:
                 self.device_combo.model().item(self.device_combo.count() - 1).setEnabled(False)
-        chosen = self.device_combo.findData(getattr(controller, "device", "demo"))
+        # The HID devices actually attached (SpaceMouse, or matched by a layout).
+        devices, problems = hs.list_devices()
+        self.layouts = {}   # device key -> layout file
+        choices = hid_choices(devices)
+        for key, title, layout_file in choices:
+            self.device_combo.addItem(title, key)
+            self.layouts[key] = layout_file
+        if not choices:
+            self.device_combo.addItem(NO_HID, "")
+            self.device_combo.model().item(self.device_combo.count() - 1).setEnabled(False)
+        current = getattr(controller, "device", "demo")
+        chosen = self.device_combo.findData(current)
+        if chosen < 0 and current.startswith(("spacemouse:", "hid:")):
+            # Picked before, not attached now: shown as such (Start says why it cannot open).
+            self.device_combo.addItem("%s (not attached)" % current.split(":", 1)[1], current)
+            self.layouts[current] = getattr(controller, "device_layout", "")
+            chosen = self.device_combo.count() - 1
         self.device_combo.setCurrentIndex(max(0, chosen))
+        if chosen < 0:
+            self._device_changed(self.device_combo.currentIndex())
+        elif current in self.layouts:
+            controller.device_layout = self.layouts[current]
         self.device_combo.currentIndexChanged.connect(self._device_changed)
         grid.addRow("Input:", self.device_combo)
+        self.message = QtWidgets.QLabel(hid_message(devices, problems))
+        self.message.setObjectName("HapticGrasp_message")
+        self.message.setWordWrap(True)
+        from PySide2 import QtCore
+        self.message.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)   # the udev rule can be copied
+        grid.addRow(self.message)
         self.fields = {}
         for key, title in (("device", "Device"), ("state", "State"), ("part", "Grasped part"),
                            ("index", "Index force"), ("thumb", "Thumb force"), ("grip", "Grasping force"),
@@ -129,6 +179,11 @@ class HapticTaskPanel:
 
     def _device_changed(self, _index):
         self.controller.device = self.device()
+        self.controller.device_layout = self.layouts.get(self.device(), "")
+
+    def show_message(self, text):
+        """A line under the picker (why a device could not be started, ...)."""
+        self.message.setText(text)
 
     def set_running(self, running):
         if self.building:   # the build is over (finished or cancelled)
@@ -203,8 +258,10 @@ class HapticTaskPanel:
         forces = snap.get("forces")   # not exposed by the binding yet: shown as such
         if forces is not None:
             import FreeCAD as App
-            f["index"].setText(_vector_text(App.Vector(*forces[0])))
-            f["thumb"].setText(_vector_text(App.Vector(*forces[1])))
+            felt = getattr(session.core, "device_force_output", True)
+            note = "" if felt else "  (not displayed: input-only device)"
+            f["index"].setText(_vector_text(App.Vector(*forces[0])) + note)
+            f["thumb"].setText(_vector_text(App.Vector(*forces[1])) + note)
         else:
             f["index"].setText(NOT_EXPOSED)
             f["thumb"].setText(NOT_EXPOSED)

@@ -221,6 +221,7 @@ class HapticSession:
         self.fault = "none"
         self._script = None       # (keys, frame Placement, pivot Vector) of a scripted hand
         self._hand = None         # the last set_hand() (index, thumb, wrist) in mm
+        self._device_hand = False  # a HID device: the hand comes from the snapshot
         self.cancelled = False
         self._candidates = collect_solids(doc, self.messages)
         self._requested = []   # (object, the Shape exported), in the build's request order
@@ -328,12 +329,32 @@ class HapticSession:
         frame = App.Placement(frame or App.Placement())
         self._script = (list(keys), frame, App.Vector(pivot) if pivot is not None else App.Vector(frame.Base))
         self._hand = None
+        self._device_hand = False
 
     def use_hand_input(self, hold_s=0.5):
         """A hand fed with set_hand() (the GUI, a script); it counts as silent hold_s after
         the last set_hand(), and the watchdog then faults the session."""
         self.core.use_hand_input(hold_s)
         self._script = None
+        self._device_hand = False
+
+    def use_spacemouse(self, path="", start=None, open_mm=80.0, closed_mm=0.0):
+        """A SpaceMouse (path "": the first attached), opened now: its grip centre starts at
+        `start` (a Vector, mm), opens to open_mm; button 1 pinches to closed_mm, button 2
+        opens. Input only (no forces displayed). Raises core.DeviceError (a RuntimeError)
+        with what to do when none is attached or it cannot be opened; the session's device
+        is then unchanged."""
+        start_mm = (0.0, 0.0, 0.0) if start is None else (start[0], start[1], start[2])
+        self.core.use_spacemouse(path, start_mm, float(open_mm), float(closed_mm))
+        self._script, self._hand, self._device_hand = None, None, True
+
+    def use_hid(self, layout, path="", origin=None):
+        """The HID device the JSON `layout` file describes (path "": the first attached one
+        it matches), its frame's origin at `origin` (a Vector, mm). Raises core.LayoutError
+        (a ValueError) for a bad layout, core.DeviceError as use_spacemouse()."""
+        origin_mm = (0.0, 0.0, 0.0) if origin is None else (origin[0], origin[1], origin[2])
+        self.core.use_hid(layout, path, origin_mm)
+        self._script, self._hand, self._device_hand = None, None, True
 
     def set_hand(self, index_mm, thumb_mm, wrist_mm):
         """The hand now, document coordinates (mm); lock-free, cheap."""
@@ -408,6 +429,8 @@ class HapticSession:
     def tick(self):
         """Read a snapshot and bring the document up to date. Returns the snapshot."""
         snap = self.core.snapshot()
+        if self._device_hand and snap["tick"] > 0:   # a HID device: the hand it last read
+            self._hand = tuple(App.Vector(*p) for p in snap["hand"])
         if snap["fault"] != "none":
             if self.fault == "none":
                 self._on_fault(snap)
@@ -541,6 +564,26 @@ class HapticSession:
             say(self.messages, "%s: move of %s aborted, the part is back where it was" % (why, obj.Label))
         else:
             say(self.messages, "%s: the grasp was reset" % why)
+
+
+def layout_dirs():
+    """Where HID layouts (*.json) are looked for: the package's devices/ folder, then the
+    user's <FreeCAD user data>/HapticGrasp/devices/."""
+    import os
+    here = os.path.dirname(os.path.realpath(core.__file__))
+    return [os.path.join(here, "devices"), os.path.join(App.getUserAppDataDir(), "HapticGrasp", "devices")]
+
+
+def list_devices():
+    """The HID devices attached, each a dict (path, vendor_id, product_id, product,
+    manufacturer, backend "spacemouse" | "layout" | "none", model, layout file), and what
+    went wrong, one line each (a layout file that did not load, an enumeration that
+    failed): (devices, problems). Never raises."""
+    try:
+        listing = core.list_devices(layout_dirs())
+    except Exception as e:   # hidapi could not start
+        return [], ["HID enumeration failed: %s" % e]
+    return listing["devices"], ["layout not loaded: %s" % e for e in listing["layout_errors"]]
 
 
 def demo_script(obj, lift_mm=50.0, move_mm=(0.0, 100.0, 0.0), lift=True, turn_rad=0.0):

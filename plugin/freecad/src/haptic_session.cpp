@@ -220,12 +220,37 @@ void Session::setHandScript(const std::vector<HandKeyMm>& keys, const Placement&
   for (const auto& key : keys) k.push_back(toHandKey(key));
   script_ = std::make_unique<grasp::HandScript>(std::move(k), toPose(frame), toMetres(pivot_mm));
   handHold_s_ = 0;
+  hid_.reset();
 }
 
 void Session::useHandInput(double hold_s) {
   if (loop_) throw std::logic_error("the device must be chosen before start()");
   if (!(hold_s > 0 && std::isfinite(hold_s))) throw std::invalid_argument("hand hold time must be positive");
   handHold_s_ = hold_s;
+  script_.reset();
+  hid_.reset();
+}
+
+void Session::useSpaceMouse(const std::string& path, const std::array<double, 3>& start_mm, double open_mm,
+                            double closed_mm) {
+  if (loop_) throw std::logic_error("the device must be chosen before start()");
+  if (!(std::isfinite(open_mm) && std::isfinite(closed_mm) && open_mm > 0 && closed_mm >= 0 && closed_mm <= open_mm))
+    throw std::invalid_argument("SpaceMouse grip: need 0 <= closed_mm <= open_mm, open_mm > 0");
+  device::SpaceMouseConfig config;
+  config.initialWrist = -config.gripCentre_wrist;  // the grip centre at the device frame's origin
+  config.openWidth_m = toMetres(open_mm);
+  config.closedWidth_m = toMetres(closed_mm);
+  auto opened = openSpaceMouse(path, config, toMetres(start_mm));  // throws: nothing changed
+  hid_ = std::move(opened);
+  handHold_s_ = 0;
+  script_.reset();
+}
+
+void Session::useHid(const std::string& layoutFile, const std::string& path, const std::array<double, 3>& origin_mm) {
+  if (loop_) throw std::logic_error("the device must be chosen before start()");
+  auto opened = openHidLayout(layoutFile, path, toMetres(origin_mm));  // throws: nothing changed
+  hid_ = std::move(opened);
+  handHold_s_ = 0;
   script_.reset();
 }
 
@@ -242,7 +267,15 @@ void Session::setHand(const std::array<double, 3>& index_mm, const std::array<do
 std::string Session::deviceName() const {
   if (handHold_s_ > 0) return HandInputDevice::defaultSpec().name;
   if (script_) return servo::ScriptedHandDevice::defaultSpec().name;
+  if (hid_) return hid_->spec().name;
   return "none";
+}
+
+bool Session::deviceForceOutput() const {
+  if (handHold_s_ > 0) return HandInputDevice::defaultSpec().forceOutput;
+  if (script_) return servo::ScriptedHandDevice::defaultSpec().forceOutput;
+  if (hid_) return hid_->spec().forceOutput;
+  return false;
 }
 
 namespace {
@@ -295,6 +328,8 @@ void Session::start(double rate_hz, bool realtime) {
     device = input_ = std::make_shared<HandInputDevice>(handHold_s_);
   } else if (script_) {
     device = scripted_ = std::make_shared<servo::ScriptedHandDevice>(*script_);
+  } else if (hid_) {
+    device = hid_;
   } else {
     throw std::invalid_argument("no device: set a hand script or use the hand input first");
   }
@@ -349,6 +384,7 @@ SessionSnapshot Session::snapshot() {
 void Session::setDeviceSilent(bool silent) {
   if (scripted_) scripted_->setSilent(silent);
   else if (input_) input_->setSilent(silent);
+  else if (hid_ && loop_) hid_->setSilent(silent);
   else throw std::logic_error("no device yet: start() first");
 }
 

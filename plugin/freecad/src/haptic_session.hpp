@@ -14,6 +14,7 @@
 
 #include "freecad_boundary.hpp"
 #include "hand_input_device.hpp"
+#include "hid_input.hpp"
 #include "hapticgrasp/geometry/mass_properties.hpp"
 #include "hapticgrasp/geometry/part_model.hpp"
 #include "hapticgrasp/grasp/grasp_parameters.hpp"
@@ -162,7 +163,21 @@ class Session {
   void useHandInput(double hold_s = 0.5);
   void setHand(const std::array<double, 3>& index_mm, const std::array<double, 3>& thumb_mm,
                const std::array<double, 3>& wrist_mm);
+  // Or: a SpaceMouse (path empty: the first attached), opened now; its grip centre starts
+  // at start_mm, the grip opens to open_mm and pinches to closed_mm (button 1 pinches,
+  // button 2 opens). Input only: no forces are displayed, the grasp still works.
+  // Throws device::HidError (none attached, cannot be opened: the message says how to fix
+  // it); the session's device is then unchanged.
+  void useSpaceMouse(const std::string& path, const std::array<double, 3>& start_mm, double open_mm,
+                     double closed_mm);
+  // Or: the HID device a JSON layout describes (path empty: the first attached device the
+  // layout matches), its frame's origin placed at origin_mm. Throws HidLayoutError for a
+  // bad layout, HidError as above.
+  void useHid(const std::string& layoutFile, const std::string& path, const std::array<double, 3>& origin_mm);
   std::string deviceName() const;
+  // False for an input-only device (SpaceMouse, the hand input, a layout without a force
+  // output report): the snapshot's forces are computed but nobody feels them.
+  bool deviceForceOutput() const;
 
   // The force parameters the front end may set (SI): K_c, B_c, K_g, B_g, d_h, K_ox, K_oe.
   static const std::vector<std::string>& parameterNames();
@@ -195,6 +210,7 @@ class Session {
   servo::ServoConfig config_;
   double timeOffset_s_ = 0;                 // servo time of the loops before a restart()
   std::uint64_t tickOffset_ = 0;
+  std::shared_ptr<PlacedDevice> hid_;  // SpaceMouse or HID layout, opened when chosen
   std::unique_ptr<servo::ServoLoop> loop_;
   std::unique_ptr<servo::ServoSnapshot> snap_ = std::make_unique<servo::ServoSnapshot>();
   servo::SnapshotReader reader_;

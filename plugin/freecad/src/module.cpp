@@ -10,6 +10,7 @@
 #include "freecad_boundary.hpp"
 #include "haptic_session.hpp"
 #include "hapticgrasp/geometry/geometry_error.hpp"
+#include "hid_input.hpp"
 
 namespace py = pybind11;
 using namespace hg;
@@ -64,6 +65,75 @@ freecad::PartRequest partRequest(const py::handle& item) {
 PYBIND11_MODULE(_hapticgrasp, m) {
   m.doc() = "HapticGrasp core for the FreeCAD workbench (lengths in mm, quaternions as FreeCAD's Rotation.Q)";
   py::register_exception<geometry::GeometryError>(m, "GeometryError", PyExc_ValueError);
+  // A HID device that is not attached or cannot be opened (the message says how to fix it).
+  py::register_exception<device::HidError>(m, "DeviceError", PyExc_RuntimeError);
+  // A HID layout file that does not load or make sense (the message names the field).
+  py::register_exception<device::HidLayoutError>(m, "LayoutError", PyExc_ValueError);
+
+  m.def(
+      "list_devices",
+      [](const std::vector<std::string>& layoutDirs) {
+        freecad::HidListing listing;
+        {
+          py::gil_scoped_release release;
+          listing = freecad::listHidDevices(layoutDirs);
+        }
+        py::list devices;
+        for (const auto& d : listing.devices) {
+          py::dict e;
+          e["path"] = d.info.path;
+          e["vendor_id"] = d.info.vendor_id;
+          e["product_id"] = d.info.product_id;
+          e["product"] = d.info.product;
+          e["manufacturer"] = d.info.manufacturer;
+          e["backend"] = device::hidBackendName(d.backend);
+          e["model"] = d.model;
+          e["layout"] = d.layoutIndex >= 0 ? listing.layouts[d.layoutIndex].source : std::string();
+          devices.append(e);
+        }
+        py::dict out;
+        out["devices"] = devices;
+        out["layout_errors"] = listing.layoutErrors;
+        return out;
+      },
+      py::arg("layout_dirs") = std::vector<std::string>{},
+      "The HID devices attached: {'devices': [{path, vendor_id, product_id, product, manufacturer, backend "
+      "('spacemouse', 'layout' or 'none'), model, layout (the matching layout file)}], 'layout_errors': [...]}, "
+      "with the *.json layouts of layout_dirs.");
+
+  // TEST ONLY: an in-process fake HID transport in place of hidapi (this kernel cannot
+  // make virtual HID devices). Not for use outside tests.
+  py::class_<freecad::TestHidFeed, std::shared_ptr<freecad::TestHidFeed>>(m, "_TestHidFeed")
+      .def(
+          "add_device",
+          [](freecad::TestHidFeed& f, const std::string& path, std::uint16_t vendor_id, std::uint16_t product_id,
+             const std::string& product) {
+            device::HidDeviceInfo info;
+            info.path = path;
+            info.vendor_id = vendor_id;
+            info.product_id = product_id;
+            info.product = product;
+            f.addDevice(info);
+          },
+          py::arg("path"), py::arg("vendor_id"), py::arg("product_id"), py::arg("product") = "")
+      .def("remove_device", &freecad::TestHidFeed::removeDevice)
+      .def(
+          "queue_report",
+          [](freecad::TestHidFeed& f, const std::string& path, const py::bytes& data) {
+            const std::string bytes = data;
+            f.queueReport(path, std::vector<std::uint8_t>(bytes.begin(), bytes.end()));
+          },
+          py::arg("path"), py::arg("report"))
+      .def("pending", &freecad::TestHidFeed::pending);
+  m.def(
+      "_use_fake_hid",
+      []() {
+        auto feed = std::make_shared<freecad::TestHidFeed>();
+        freecad::useTestHidTransport(feed);
+        return feed;
+      },
+      "TEST ONLY: replace hidapi with an in-process fake transport (returned; add devices and queue reports on it).");
+  m.def("_use_real_hid", &freecad::useRealHidTransport, "TEST ONLY: back to hidapi after _use_fake_hid().");
 
   m.def(
       "part_info",
@@ -184,7 +254,20 @@ PYBIND11_MODULE(_hapticgrasp, m) {
            "The device: a hand set with set_hand(); silent hold_s after the last set_hand().")
       .def("set_hand", &freecad::Session::setHand, py::arg("index_mm"), py::arg("thumb_mm"), py::arg("wrist_mm"),
            "Any one thread: the hand now (absolute frame, mm); lock-free.")
+      .def("use_spacemouse", &freecad::Session::useSpaceMouse, py::arg("path") = "",
+           py::arg("start_mm") = std::array<double, 3>{0, 0, 0}, py::arg("open_mm") = 80.0, py::arg("closed_mm") = 0.0,
+           "The device: a SpaceMouse (path '': the first attached), opened now. Its grip centre starts at start_mm "
+           "(document, mm), opens to open_mm, button 1 pinches to closed_mm, button 2 opens. Input only: no "
+           "forces are displayed. Raises DeviceError (a RuntimeError) when none is attached or it cannot be "
+           "opened (the message says how to fix it); the session's device is then unchanged.")
+      .def("use_hid", &freecad::Session::useHid, py::arg("layout"), py::arg("path") = "",
+           py::arg("origin_mm") = std::array<double, 3>{0, 0, 0},
+           "The device: the HID device the JSON layout file describes (path '': the first attached device it "
+           "matches), its frame's origin at origin_mm (document, mm). Raises LayoutError (a ValueError) for a bad "
+           "layout, DeviceError as use_spacemouse.")
       .def_property_readonly("device_name", &freecad::Session::deviceName)
+      .def_property_readonly("device_force_output", &freecad::Session::deviceForceOutput,
+                             "False for an input-only device: the snapshot's forces are computed, not displayed.")
       .def(
           "set_parameters",
           [](freecad::Session& s, const py::dict& values) {
