@@ -233,6 +233,40 @@ class HapticGraspDocument(unittest.TestCase):
         self.assertAlmostEqual(moved.z, 0.0, delta=0.5)
         self.assertEqual(self.doc.UndoNames, ["Haptic move Cylinder"])
 
+    def test_the_multi_finger_method_carries_the_part_with_its_sag(self):
+        # The resultant-force method: the part rests until the pinch can carry its weight,
+        # then hangs m g / k_d below the fingers' shell; put down and released there.
+        before = App.Placement(self.cylinder.Placement)
+        block_before = App.Placement(self.block.Placement)
+        self.session = s = hs.HapticSession(self.doc)
+        keys, frame = hs.demo_script(self.cylinder, squeeze_mm=18.0)
+        s.use_hand_script(keys, frame)
+        s.start(method="multi-finger")
+        self.assertEqual(s.core.method, "multi-finger")
+        fingertips = []
+        states = run(s, s.core.script_duration() + 0.3, lambda snap: fingertips.append(len(snap["fingertips"])))
+        s.stop()
+        self.assertEqual(set(fingertips) - {0}, {2})   # 0 before the first tick
+        self.assertIn("MANIPULATE", states)
+        self.assertEqual(states[-1], "FREE", states)
+        moved = self.cylinder.Placement.Base - before.Base
+        sag = 2.0 * 9.80665 / 800.0 * 1000.0   # m g / k_d, mm
+        print("multi-finger: moved by (%.3f, %.3f, %.3f) mm, sag %.1f mm, states %s"
+              % (moved.x, moved.y, moved.z, sag, states))
+        self.assertAlmostEqual(moved.x, 0.0, delta=1.0)
+        self.assertAlmostEqual(moved.y, 100.0, delta=1.0)
+        self.assertAlmostEqual(moved.z, -sag, delta=3.0)
+        self.assertTrue(hs.same_placement(self.block.Placement, block_before, 1e-12))
+        self.assertEqual(self.doc.UndoNames, ["Haptic move Cylinder"])
+        self.doc.undo()
+        self.assertTrue(hs.same_placement(self.cylinder.Placement, before), self.cylinder.Placement)
+
+    def test_an_unknown_method_is_refused(self):
+        self.session = s = self.make_session()
+        with self.assertRaises(ValueError):
+            s.start(method="three-finger")
+        self.assertFalse(s.running)
+
     def test_a_hand_that_goes_silent_mid_manipulation_aborts(self):
         before = App.Placement(self.cylinder.Placement)
         self.session = s = hs.HapticSession(self.doc)

@@ -236,16 +236,21 @@ class HapticGraspGui(unittest.TestCase):
             shown = {key: spin.value() for key, spin in page.spins.items()}
             self.assertEqual(shown, hs.default_parameters())
             self.assertEqual(shown["K_g"], 1000.0)
+            self.assertEqual(page.method.currentData(), "two-finger")
             page.spins["K_g"].setValue(1500.0)
             page.spins["d_h"].setValue(0.003)
+            page.method.setCurrentIndex(page.method.findData("multi-finger"))
             page.saveSettings()
             self.assertEqual(group.GetFloat("K_g"), 1500.0)
             self.assertEqual(hs.stored_parameters()["d_h"], 0.003)
+            self.assertEqual(hs.stored_method(), "multi-finger")
             page.reset()
             self.assertEqual(page.spins["K_g"].value(), 1000.0)
+            self.assertEqual(page.method.currentData(), "two-finger")
         finally:
             for key in hs.PARAMETER_KEYS:
                 group.RemFloat(key)
+            group.RemString(hs.METHOD_KEY)
             page.form.deleteLater()
 
     def test_the_panel_offers_a_device_choice_with_the_mouse(self):

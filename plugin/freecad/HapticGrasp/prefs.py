@@ -1,5 +1,6 @@
-"""The preferences page "Haptic Grasp" (Edit > Preferences): the force parameters of the
-grasp, SI, stored in App.ParamGet(session.PARAMETER_PATH) and read by HapticSession.start().
+"""The preferences page "Haptic Grasp" (Edit > Preferences): the grasp method and the force
+parameters of the two-finger grasp, SI, stored in App.ParamGet(session.PARAMETER_PATH) and
+read by HapticSession.start().
 Registered from InitGui.py with Gui.addPreferencePage(HapticGraspPreferences, "Haptic Grasp");
 FreeCAD instantiates the class, shows `form` and calls loadSettings()/saveSettings()."""
 
@@ -22,6 +23,14 @@ class HapticGraspPreferences:
         self.form.setObjectName("HapticGraspPreferences")
         self.form.setWindowTitle("Haptic Grasp")
         layout = QtWidgets.QVBoxLayout(self.form)
+        methods = QtWidgets.QFormLayout()
+        self.method = QtWidgets.QComboBox()
+        self.method.setObjectName("HapticGrasp_Pref_Method")
+        self.method.addItem("Two fingers: grasp state machine (Maekawa & Hollerbach)", "two-finger")
+        self.method.addItem("Multi-finger: grasping force kept apart from the resultant (every fingertip "
+                            "the device has)", "multi-finger")
+        methods.addRow("Grasp method:", self.method)
+        layout.addLayout(methods)
         box = QtWidgets.QGroupBox("Force parameters (SI; the paper's K_c 130, B_c 100, K_g 1000, B_g 800)")
         grid = QtWidgets.QFormLayout(box)
         self.spins = {}
@@ -47,14 +56,20 @@ class HapticGraspPreferences:
         for key, spin in self.spins.items():
             spin.setValue(values[key])
 
+    def _show_method(self, method):
+        self.method.setCurrentIndex(max(0, self.method.findData(method)))
+
     def reset(self):
         from . import session as hs
         self._show(hs.default_parameters())
+        self._show_method(hs.METHODS[0])
 
     def loadSettings(self):
         from . import session as hs
         self._show(hs.stored_parameters())
+        self._show_method(hs.stored_method())
 
     def saveSettings(self):
         from . import session as hs
         hs.store_parameters({key: spin.value() for key, spin in self.spins.items()})
+        hs.store_method(self.method.currentData())

@@ -27,6 +27,22 @@ HOLDING = ("GRASP", "MANIPULATE")
 # Force parameters (SI), set in the preferences page "Haptic Grasp" and read at start().
 PARAMETER_PATH = "User parameter:BaseApp/Preferences/Mod/HapticGrasp"
 PARAMETER_KEYS = ("K_c", "B_c", "K_g", "B_g", "d_h", "K_ox", "K_oe")
+# The grasp method, stored beside them: the first paper's two-finger state machine, or the
+# resultant-force paper's multi-finger method (as many fingertips as the device reads).
+METHOD_KEY = "GraspMethod"
+METHODS = ("two-finger", "multi-finger")
+
+
+def stored_method():
+    """The grasp method in the user's preferences ("two-finger" when none is stored)."""
+    method = App.ParamGet(PARAMETER_PATH).GetString(METHOD_KEY, METHODS[0])
+    return method if method in METHODS else METHODS[0]
+
+
+def store_method(method):
+    if method not in METHODS:
+        raise ValueError("unknown grasp method %s (%s)" % (method, ", ".join(METHODS)))
+    App.ParamGet(PARAMETER_PATH).SetString(METHOD_KEY, method)
 
 
 def default_parameters():
@@ -388,9 +404,10 @@ class HapticSession:
         return tuple(place(mix(a[i], b[i])) for i in (1, 2, 3))
 
     # --- servo thread -----------------------------------------------------------------
-    def start(self, rate_hz=1000.0, realtime=False, parameters=None):
-        """Starts the servo thread with the force parameters of the preferences (or
-        `parameters`, a dict in SI). A bad value raises ValueError naming the key."""
+    def start(self, rate_hz=1000.0, realtime=False, parameters=None, method=None):
+        """Starts the servo thread with the force parameters and the grasp method of the
+        preferences (or `parameters`, a dict in SI, and `method`). A bad value raises
+        ValueError naming the key."""
         if self.cancelled:
             raise RuntimeError("the model build was cancelled")
         if not self.poll_build():
@@ -399,6 +416,7 @@ class HapticSession:
             raise RuntimeError("no solid to grasp in %s" % self.doc.Label)
         self.parameters = stored_parameters() if parameters is None else dict(parameters)
         self.core.set_parameters(self.parameters)
+        self.core.set_method(stored_method() if method is None else method)
         self.core.start(rate_hz, realtime)
 
     def stop(self):
@@ -586,18 +604,20 @@ def list_devices():
     return listing["devices"], ["layout not loaded: %s" % e for e in listing["layout_errors"]]
 
 
-def demo_script(obj, lift_mm=50.0, move_mm=(0.0, 100.0, 0.0), lift=True, turn_rad=0.0):
+def demo_script(obj, lift_mm=50.0, move_mm=(0.0, 100.0, 0.0), lift=True, turn_rad=0.0, squeeze_mm=1.0):
     """A scripted hand for `obj` (document coordinates): fingertips come in along x on
     either side of its bounding box centre, grasp, then (lift=True) lift by lift_mm, carry
     by move_mm while turning it by turn_rad about the vertical through its centre, put the
     part down and release, or (lift=False) open again without lifting.
     Once lifted (MANIPULATE) the part follows the midpoint of the fingertips rigidly, so it
     ends displaced by move_mm (plus the fraction of a millimetre the midpoint moved while
-    the fingers closed). Returns (keys, frame Placement)."""
+    the fingers closed). Each fingertip ends squeeze_mm inside the box (the multi-finger
+    method lifts only once friction can carry the weight: m g / (2 mu k) each, 12 mm for the
+    2 kg cylinder). Returns (keys, frame Placement)."""
     box = global_bound_box(obj)
     half = 0.5 * box.XLength
-    open_, inside = half + 20.0, half - 0.5
-    squeezed = inside - 0.5
+    open_, inside = half + 20.0, half - 0.5 * squeeze_mm
+    squeezed = half - squeeze_mm
     mx, my, mz = move_mm
     keys = []
 

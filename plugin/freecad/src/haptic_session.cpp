@@ -208,7 +208,7 @@ void Session::restart(const std::vector<Placement>& placements) {
   loop_.reset();
   for (std::size_t i = 0; i < parts_.size(); ++i) parts_[i].initialPose = poses[i];
   reader_ = servo::SnapshotReader{};
-  loop_ = std::make_unique<servo::ServoLoop>(device_, scene, parameters_, config_);
+  loop_ = std::make_unique<servo::ServoLoop>(device_, makeEngine(scene), config_);
   loop_->start();
 }
 
@@ -339,8 +339,26 @@ void Session::start(double rate_hz, bool realtime) {
   config.realtime = realtime;
   device_ = device;
   config_ = config;
-  loop_ = std::make_unique<servo::ServoLoop>(device, scene, parameters_, config);
+  loop_ = std::make_unique<servo::ServoLoop>(device, makeEngine(scene), config);
   loop_->start();
+}
+
+void Session::setMethod(const std::string& method) {
+  if (loop_) throw std::logic_error("the method must be chosen before start()");
+  if (method != "two-finger" && method != "multi-finger")
+    throw std::invalid_argument("unknown grasp method '" + method + "' (two-finger, multi-finger)");
+  method_ = method;
+}
+
+// The multi-finger method drives every fingertip the device reads, with its paper's
+// defaults (k = k_d = 800 N/m, μ = 1); the two-finger one takes the force parameters.
+std::unique_ptr<servo::GraspEngine> Session::makeEngine(const grasp::ScenePtr& scene) const {
+  if (method_ == "multi-finger") {
+    grasp::multi_finger::MultiFingerSceneParams params;
+    params.grasp.gravity = parameters_.gravity;
+    return std::make_unique<servo::MultiFingerEngine>(scene, device_->spec().fingertips, params);
+  }
+  return std::make_unique<servo::TwoFingerEngine>(scene, parameters_);
 }
 
 void Session::stop() noexcept {
@@ -376,6 +394,11 @@ SessionSnapshot Session::snapshot() {
   out.index_mm = toMillimetres(s.hand.index);
   out.thumb_mm = toMillimetres(s.hand.thumb);
   out.wrist_mm = toMillimetres(s.hand.wrist);
+  out.method = s.method;
+  for (int k = 0; k < s.fingertips; ++k) {
+    out.fingertips_mm.push_back(toMillimetres(s.hand.fingertip(k)));
+    out.fingertipForces_N.push_back(newtons(s.sent.fingertipForce(k)));
+  }
   out.rate_hz = s.timing.achieved_hz;
   out.jitter_us = s.timing.periodError.p99_us;
   return out;

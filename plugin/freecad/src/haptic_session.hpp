@@ -128,6 +128,10 @@ struct SessionSnapshot {
   double graspForce_N = 0;
   // The hand the servo loop last used, mm.
   std::array<double, 3> index_mm{0, 0, 0}, thumb_mm{0, 0, 0}, wrist_mm{0, 0, 0};
+  // Every fingertip the method uses (the multi-finger method with a glove: up to five),
+  // mm, and the force each feels, N.
+  std::vector<std::array<double, 3>> fingertips_mm, fingertipForces_N;
+  std::string method = "two-finger";
   double rate_hz = 0;      // achieved servo rate
   double jitter_us = 0;    // period error, p99
 };
@@ -188,6 +192,12 @@ class Session {
   const grasp::GraspParameters& parameters() const { return parameters_; }
   double parameter(const std::string& name) const;
 
+  // Before start(): "two-finger" (the first paper's state machine, the default) or
+  // "multi-finger" (the resultant-force paper's method, with as many fingertips as the
+  // device reads). Throws std::invalid_argument for another name.
+  void setMethod(const std::string& method);
+  const std::string& method() const { return method_; }
+
   void start(double rate_hz = 1000, bool realtime = false);
   void stop() noexcept;
   bool running() const { return loop_ && loop_->running(); }
@@ -211,6 +221,8 @@ class Session {
   double timeOffset_s_ = 0;                 // servo time of the loops before a restart()
   std::uint64_t tickOffset_ = 0;
   std::shared_ptr<PlacedDevice> hid_;  // SpaceMouse or HID layout, opened when chosen
+  std::string method_ = "two-finger";
+  std::unique_ptr<servo::GraspEngine> makeEngine(const grasp::ScenePtr& scene) const;
   std::unique_ptr<servo::ServoLoop> loop_;
   std::unique_ptr<servo::ServoSnapshot> snap_ = std::make_unique<servo::ServoSnapshot>();
   servo::SnapshotReader reader_;

@@ -300,6 +300,10 @@ PYBIND11_MODULE(_hapticgrasp, m) {
             return d;
           },
           "The force parameters the session starts with (SI): K_c, B_c, K_g, B_g, d_h, K_ox, K_oe.")
+      .def("set_method", &freecad::Session::setMethod, py::arg("method"),
+           "Before start(): 'two-finger' (default) or 'multi-finger' (the resultant-force method, as many "
+           "fingertips as the device reads).")
+      .def_property_readonly("method", &freecad::Session::method)
       .def("start", &freecad::Session::start, py::arg("rate_hz") = 1000.0, py::arg("realtime") = false,
            py::call_guard<py::gil_scoped_release>())
       .def("stop", &freecad::Session::stop, py::call_guard<py::gil_scoped_release>())
@@ -328,14 +332,22 @@ PYBIND11_MODULE(_hapticgrasp, m) {
             d["grasp_force_n"] = snap.graspForce_N;
             const auto mm = [](const std::array<double, 3>& p) { return py::make_tuple(p[0], p[1], p[2]); };
             d["hand"] = py::make_tuple(mm(snap.index_mm), mm(snap.thumb_mm), mm(snap.wrist_mm));
+            py::list tips, tipForces;
+            for (std::size_t k = 0; k < snap.fingertips_mm.size(); ++k) {
+              tips.append(mm(snap.fingertips_mm[k]));
+              tipForces.append(mm(snap.fingertipForces_N[k]));
+            }
+            d["fingertips"] = tips;
+            d["fingertip_forces"] = tipForces;
+            d["method"] = snap.method;
             d["rate_hz"] = snap.rate_hz;
             d["jitter_us"] = snap.jitter_us;
             return d;
           },
           "state, grasped part, events since the previous snapshot, watchdog fault, every part's "
           "placement as ((x, y, z) mm, (qx, qy, qz, qw)), the fingertip forces felt (N), the "
-          "grasping force (N), the hand (index, thumb, wrist; mm), the servo rate (Hz) and its "
-          "period jitter (p99, us).");
+          "grasping force (N), the hand (index, thumb, wrist; mm), every fingertip in use (mm) and "
+          "its force (N), the method, the servo rate (Hz) and its period jitter (p99, us).");
 
   py::dict events;
   for (int bit = 0; bit < grasp::kEventCount; ++bit)
