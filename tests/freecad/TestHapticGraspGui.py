@@ -613,6 +613,32 @@ class HapticGraspGui(unittest.TestCase):
             self._wait(0.1)
         App.closeDocument(doc.Name)
 
+    def test_the_overlay_shows_every_fingertip_a_device_has(self):
+        # A three-fingertip device: the third sphere and its force arrow appear, the
+        # fourth and fifth stay hidden; two fingertips again hide the third.
+        from pivy import coin
+        from HapticGrasp import overlay as hoverlay
+        doc = App.newDocument("HapticGraspOverlay3")
+        overlay = hoverlay.HapticOverlay(Gui.ActiveDocument.ActiveView)
+        try:
+            V = App.Vector
+            hand = (V(10, 0, 0), V(-10, 0, 0), V(0, 0, 50))
+            overlay.update("GRASP", hand, (V(-1, 0, 0), V(1, 0, 0)), None, False,
+                           more=[(V(0, 10, 0), V(0, -2, 0))])
+            (third, move), (fourth, _) = overlay.extra[0], overlay.extra[1]
+            self.assertEqual(third.whichChild.getValue(), coin.SO_SWITCH_ALL)
+            self.assertEqual(fourth.whichChild.getValue(), coin.SO_SWITCH_NONE)
+            self.assertEqual(tuple(move.translation.getValue()), (0.0, 10.0, 0.0))
+            self.assertEqual(overlay.extra_arrows[0][0].whichChild.getValue(), coin.SO_SWITCH_ALL)
+            tip = overlay.extra_arrows[0][1].point[1].getValue()
+            self.assertAlmostEqual(tip[1], 10.0 - 2 * hoverlay.ARROW_MM_PER_N, places=4)
+            overlay.update("GRASP", hand, (V(-1, 0, 0), V(1, 0, 0)), None, False)
+            self.assertEqual(third.whichChild.getValue(), coin.SO_SWITCH_NONE)
+            self.assertEqual(overlay.extra_arrows[0][0].whichChild.getValue(), coin.SO_SWITCH_NONE)
+        finally:
+            overlay.remove()
+            App.closeDocument(doc.Name)
+
     @staticmethod
     def _overlay_nodes():
         from pivy import coin

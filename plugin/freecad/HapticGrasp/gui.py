@@ -205,7 +205,9 @@ class _HapticGraspController:
             grasped = snap.get("grasped", -1)
             if state in hs.HOLDING and 0 <= grasped < len(snap["placements"]):
                 rotation = hs.to_placement(snap["placements"][grasped]).Rotation
-            cls.overlay.update(state, session.hand_at(snap.get("time_s", 0.0)), forces, rotation, fault)
+            more = [(App.Vector(*p), App.Vector(*f))
+                    for p, f in zip(snap.get("fingertips", [])[2:], snap.get("fingertip_forces", [])[2:])]
+            cls.overlay.update(state, session.hand_at(snap.get("time_s", 0.0)), forces, rotation, fault, more)
 
     @classmethod
     def cancel(cls):

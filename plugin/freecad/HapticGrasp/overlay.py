@@ -1,9 +1,10 @@
 """3D overlay of a running haptic session: Coin nodes (pivy) added to the active view's
 scene graph, never document objects (no undo, nothing saved). GUI thread only.
 
-  - fingertip spheres (index, thumb) and a wrist marker (a cube), coloured by grasp state;
+  - fingertip spheres (index, thumb, and up to three more for a multi-finger device) and a
+    wrist marker (a cube), coloured by grasp state;
   - force arrows from each fingertip, length = force * ARROW_MM_PER_N (hidden while the
-    force is unknown: the core's snapshot does not carry fingertip forces yet);
+    force is zero or unknown);
   - the grasp frame: three short lines (x red, y green, z blue) at the fingertips'
     midpoint, turned with the grasped part.
 """
@@ -22,6 +23,7 @@ FINGERTIP_RADIUS_MM = 4.0
 WRIST_SIZE_MM = 10.0
 ARROW_MM_PER_N = 5.0
 FRAME_LENGTH_MM = 25.0
+EXTRA_FINGERTIPS = 3   # fingertips 2..4 of a multi-finger device, shown only when it has them
 
 
 class HapticOverlay:
@@ -34,17 +36,10 @@ class HapticOverlay:
         self.root.setName(ROOT_NAME)
         self.state_material = coin.SoMaterial()
         self.root.addChild(self.state_material)
-        self.fingertips = []
-        for name in ("Index", "Thumb"):
-            sep = coin.SoSeparator()
-            sep.setName(ROOT_NAME + name)
-            move = coin.SoTranslation()
-            sphere = coin.SoSphere()
-            sphere.radius = FINGERTIP_RADIUS_MM
-            sep.addChild(move)
-            sep.addChild(sphere)
-            self.root.addChild(sep)
-            self.fingertips.append(move)
+        self.fingertips = [self._fingertip(name)[1] for name in ("Index", "Thumb")]
+        self.extra = [self._fingertip("Finger%d" % (k + 2)) for k in range(EXTRA_FINGERTIPS)]
+        for switch, _move in self.extra:
+            switch.whichChild = coin.SO_SWITCH_NONE
         wrist = coin.SoSeparator()
         wrist.setName(ROOT_NAME + "Wrist")
         self.wrist = coin.SoTranslation()
@@ -53,31 +48,8 @@ class HapticOverlay:
         wrist.addChild(self.wrist)
         wrist.addChild(cube)
         self.root.addChild(wrist)
-        # force arrows: a line and a cone at its tip, in a switch (hidden when unknown)
-        self.arrows = []
-        for name in ("Index", "Thumb"):
-            switch = coin.SoSwitch()
-            switch.setName(ROOT_NAME + name + "Force")
-            sep = coin.SoSeparator()
-            material = coin.SoMaterial()
-            material.diffuseColor = (0.1, 0.4, 1.0)
-            material.emissiveColor = (0.05, 0.2, 0.5)
-            style = coin.SoDrawStyle()
-            style.lineWidth = 3
-            coords = coin.SoCoordinate3()
-            coords.point.setValues(0, 2, [(0, 0, 0), (0, 0, 0)])
-            line = coin.SoLineSet()
-            line.numVertices.setValue(2)
-            head = coin.SoTransform()
-            cone = coin.SoCone()
-            cone.bottomRadius = 2.0
-            cone.height = 5.0
-            for node in (material, style, coords, line, head, cone):
-                sep.addChild(node)
-            switch.addChild(sep)
-            switch.whichChild = coin.SO_SWITCH_NONE
-            self.root.addChild(switch)
-            self.arrows.append((switch, coords, head))
+        self.arrows = [self._arrow(name) for name in ("Index", "Thumb")]
+        self.extra_arrows = [self._arrow("Finger%d" % (k + 2)) for k in range(EXTRA_FINGERTIPS)]
         # grasp frame: three lines, one colour each
         frame = coin.SoSeparator()
         frame.setName(ROOT_NAME + "GraspFrame")
@@ -98,13 +70,68 @@ class HapticOverlay:
         self.graph.addChild(self.root)
         self.update("FREE")
 
+    def _fingertip(self, name):
+        """A sphere under a switch: (switch, its translation)."""
+        coin = self.coin
+        switch = coin.SoSwitch()
+        switch.setName(ROOT_NAME + name)
+        sep = coin.SoSeparator()
+        move = coin.SoTranslation()
+        sphere = coin.SoSphere()
+        sphere.radius = FINGERTIP_RADIUS_MM
+        sep.addChild(move)
+        sep.addChild(sphere)
+        switch.addChild(sep)
+        switch.whichChild = coin.SO_SWITCH_ALL
+        self.root.addChild(switch)
+        return switch, move
+
+    def _arrow(self, name):
+        """A force arrow, a line and a cone at its tip, in a switch (hidden when unknown):
+        (switch, line coordinates, cone transform)."""
+        coin = self.coin
+        switch = coin.SoSwitch()
+        switch.setName(ROOT_NAME + name + "Force")
+        sep = coin.SoSeparator()
+        material = coin.SoMaterial()
+        material.diffuseColor = (0.1, 0.4, 1.0)
+        material.emissiveColor = (0.05, 0.2, 0.5)
+        style = coin.SoDrawStyle()
+        style.lineWidth = 3
+        coords = coin.SoCoordinate3()
+        coords.point.setValues(0, 2, [(0, 0, 0), (0, 0, 0)])
+        line = coin.SoLineSet()
+        line.numVertices.setValue(2)
+        head = coin.SoTransform()
+        cone = coin.SoCone()
+        cone.bottomRadius = 2.0
+        cone.height = 5.0
+        for node in (material, style, coords, line, head, cone):
+            sep.addChild(node)
+        switch.addChild(sep)
+        switch.whichChild = coin.SO_SWITCH_NONE
+        self.root.addChild(switch)
+        return switch, coords, head
+
+    def _show_arrow(self, arrow, point, force):
+        switch, coords, head = arrow
+        if force is None or force.Length < 1e-9:
+            switch.whichChild = self.coin.SO_SWITCH_NONE
+            return
+        tip = point + force * ARROW_MM_PER_N
+        coords.point.setValues(0, 2, [(point.x, point.y, point.z), (tip.x, tip.y, tip.z)])
+        head.translation = (tip.x, tip.y, tip.z)
+        head.rotation = self.coin.SbRotation(self.coin.SbVec3f(0, 1, 0), self.coin.SbVec3f(force.x, force.y, force.z))
+        switch.whichChild = self.coin.SO_SWITCH_ALL
+
     def attached(self):
         return self.graph is not None and self.graph.findChild(self.root) >= 0
 
-    def update(self, state, hand=None, forces=None, frame_rotation=None, fault=False):
+    def update(self, state, hand=None, forces=None, frame_rotation=None, fault=False, more=()):
         """state: the grasp state; hand: (index, thumb, wrist) Vectors in mm or None;
         forces: (index, thumb) force Vectors in N or None; frame_rotation: the grasped
-        part's Rotation (None: the world axes)."""
+        part's Rotation (None: the world axes); more: (point mm, force N) Vectors of the
+        fingertips after the thumb, for a multi-finger device (the others are hidden)."""
         colour = FAULT_COLOUR if fault else STATE_COLOURS.get(state, STATE_COLOURS["FREE"])
         self.state_material.diffuseColor = colour
         self.state_material.emissiveColor = tuple(0.5 * c for c in colour)  # lit or not
@@ -114,16 +141,18 @@ class HapticOverlay:
         for move, point in zip(self.fingertips, (index, thumb)):
             move.translation = (point.x, point.y, point.z)
         self.wrist.translation = (wrist.x, wrist.y, wrist.z)
-        for (switch, coords, head), point, force in zip(self.arrows, (index, thumb), forces or (None, None)):
-            if force is None or force.Length < 1e-9:
+        for arrow, point, force in zip(self.arrows, (index, thumb), forces or (None, None)):
+            self._show_arrow(arrow, point, force)
+        more = list(more)[:EXTRA_FINGERTIPS]
+        for k, ((switch, move), arrow) in enumerate(zip(self.extra, self.extra_arrows)):
+            if k < len(more):
+                point, force = more[k]
+                move.translation = (point.x, point.y, point.z)
+                switch.whichChild = self.coin.SO_SWITCH_ALL
+                self._show_arrow(arrow, point, force)
+            else:
                 switch.whichChild = self.coin.SO_SWITCH_NONE
-                continue
-            tip = point + force * ARROW_MM_PER_N
-            coords.point.setValues(0, 2, [(point.x, point.y, point.z), (tip.x, tip.y, tip.z)])
-            head.translation = (tip.x, tip.y, tip.z)
-            head.rotation = self.coin.SbRotation(self.coin.SbVec3f(0, 1, 0),
-                                                 self.coin.SbVec3f(force.x, force.y, force.z))
-            switch.whichChild = self.coin.SO_SWITCH_ALL
+                self._show_arrow(arrow, None, None)
         centre = (index + thumb) * 0.5
         rotation = frame_rotation or App.Rotation()
         points = []
