@@ -456,9 +456,10 @@ class HapticGraspGui(unittest.TestCase):
         self.assertFalse(doc.HasPendingTransaction)
         self.assertEqual(log.errors, [])
 
-    def test_esc_mid_move_puts_the_part_back_with_no_transaction_left(self):
-        from PySide2 import QtCore
-        doc, cylinder = self._cylinder_doc("HapticGraspEsc")
+    def _interrupt_mid_move(self, doc_name, interrupt):
+        """The mouse hand grasps and lifts the cylinder with real events, then
+        `interrupt(controller)`: the part must be back, with nothing left open."""
+        doc, cylinder = self._cylinder_doc(doc_name)
         before = App.Placement(cylinder.Placement)
         controller = None
         with _ErrorLog() as log:
@@ -466,8 +467,7 @@ class HapticGraspGui(unittest.TestCase):
                 controller = self._start_mouse_hand()
                 self._grasp_and_lift_with_events(controller, cylinder)
                 self.assertGreater((cylinder.Placement.Base - before.Base).Length, 5.0)
-                self._key(QtCore.Qt.Key_Escape, True)
-                self._key(QtCore.Qt.Key_Escape, False)
+                interrupt(controller)
                 self._wait(0.3)
             finally:
                 if controller is not None:
@@ -479,36 +479,33 @@ class HapticGraspGui(unittest.TestCase):
         self._assert_back_and_clean(doc, cylinder, before, log)
         App.closeDocument(doc.Name)
 
+    def test_esc_mid_move_puts_the_part_back_with_no_transaction_left(self):
+        from PySide2 import QtCore
+
+        def escape(_controller):
+            self._key(QtCore.Qt.Key_Escape, True)
+            self._key(QtCore.Qt.Key_Escape, False)
+
+        self._interrupt_mid_move("HapticGraspEsc", escape)
+
     def test_closing_the_panel_mid_move_puts_the_part_back_with_no_transaction_left(self):
         from PySide2 import QtWidgets
-        doc, cylinder = self._cylinder_doc("HapticGraspClose")
-        before = App.Placement(cylinder.Placement)
-        controller = None
-        with _ErrorLog() as log:
-            try:
-                controller = self._start_mouse_hand()
-                self._grasp_and_lift_with_events(controller, cylinder)
-                self.assertIsNotNone(controller.panel)
-                # The task dialog's own Close button, as the user clicks it.
-                close = None
-                for box in Gui.getMainWindow().findChildren(QtWidgets.QDialogButtonBox):
-                    button = box.button(QtWidgets.QDialogButtonBox.Close)
-                    if button is not None and button.isVisible():
-                        close = button
-                self.assertIsNotNone(close, "no Close button in the task view")
-                close.click()
-                self._wait(0.3)
-                self.assertIsNone(controller.panel)
-            finally:
-                if controller is not None:
-                    controller.stop()
-                    if controller.panel is not None:
-                        controller.panel.reject()
-                    controller.device = "demo"
-                self._wait(0.1)
-        self._assert_back_and_clean(doc, cylinder, before, log)
-        self.assertFalse(Gui.Control.activeDialog())
-        App.closeDocument(doc.Name)
+
+        def close_panel(controller):
+            self.assertIsNotNone(controller.panel)
+            # The task dialog's own Close button, as the user clicks it.
+            close = None
+            for box in Gui.getMainWindow().findChildren(QtWidgets.QDialogButtonBox):
+                button = box.button(QtWidgets.QDialogButtonBox.Close)
+                if button is not None and button.isVisible():
+                    close = button
+            self.assertIsNotNone(close, "no Close button in the task view")
+            close.click()
+            self._wait(0.3)
+            self.assertIsNone(controller.panel)
+            self.assertFalse(Gui.Control.activeDialog())
+
+        self._interrupt_mid_move("HapticGraspClose", close_panel)
 
     # --- HID devices in the picker (the module's fake transport, test only) --------------
     def test_the_picker_lists_an_attached_spacemouse_and_says_when_none_is(self):
