@@ -837,6 +837,150 @@ class MouseHandSession(unittest.TestCase):
         self.assertIn("cancelled", s.messages[0])
 
 
+class SimulatedArmSession(unittest.TestCase):
+    """The "Simulated arm (mouse + keyboard)" device without the GUI: a MouseHand (as the
+    GUI's mouse events move it) is the TARGET of the simulated operator who drives the
+    simulated master arm; the grasp sees the arm's fingertips. The arm is placed above the
+    sample block (100 x 60 x 40 mm), its grip axis across the block's 60 mm (y)."""
+
+    setUp = HapticGraspDocument.setUp
+    tearDown = HapticGraspDocument.tearDown
+    drive = MouseHandSession.drive
+    move = staticmethod(MouseHandSession.move)
+
+    GRASP_BELOW_TOP_MM = 25.0   # the grasp height under the block's top (the core's bench)
+
+    def arm_session(self, hold_s=0.5):
+        from HapticGrasp import mouse_hand
+        self.session = s = hs.HapticSession(self.doc)
+        rest = s.use_simulated_arm(self.block, hold_s=hold_s)
+        self.assertEqual(s.core.device_name, "simulated arm")
+        self.assertTrue(s.core.device_force_output)
+        box = self.block.Shape.BoundBox
+        self.assertAlmostEqual(rest["grip_axis"][1], 1.0, places=9)   # across the block's 60 mm
+        centre = (App.Vector(*rest["index"]) + App.Vector(*rest["thumb"])) * 0.5
+        self.assertAlmostEqual((centre - App.Vector(box.Center.x, box.Center.y, box.ZMax + 30.0)).Length, 0.0,
+                               places=6)
+        hand = mouse_hand.for_arm(rest, box.YLength, right=MouseHandSession.RIGHT, up=MouseHandSession.UP,
+                                  view_dir=MouseHandSession.INTO, rate_mm_s=150.0)
+        return s, hand, box
+
+    def approach_and_pinch(self, s, hand, box):
+        """Down from the rest pose to the grasp height, open around the block; pinch."""
+        down = hand.centre[2] - (box.ZMax - self.GRASP_BELOW_TOP_MM)
+        states = self.drive(s, hand, [(0.3, None), (0.6, self.move(0, -down, 0.5)), (0.4, None)])
+        hand.pinch(True)
+        states += self.drive(s, hand, [(1.0, None)])
+        return states
+
+    def drive_until(self, s, hand, steps, done):
+        """MouseHandSession.drive, stopping (and no longer feeding the target) as soon as
+        done() is true. Returns (states, done reached)."""
+        states = []
+        for duration, action in steps:
+            end = time.monotonic() + duration
+            last = time.monotonic()
+            while time.monotonic() < end and s.running:
+                now = time.monotonic()
+                dt, last = now - last, now
+                if action:
+                    action(hand, dt)
+                s.set_hand(*hand.tick(dt))
+                state = s.tick()["state"]
+                if not states or states[-1] != state:
+                    states.append(state)
+                if done():
+                    return states, True
+                time.sleep(0.02)
+        return states, False
+
+    def test_the_arm_grasps_the_block_with_its_own_fingertips_and_lifts_it(self):
+        before = App.Placement(self.block.Placement)
+        s, hand, box = self.arm_session()
+        s.set_hand(*hand.tick(0.0))   # the arm device exists before start(): fed at once
+        s.start()
+        states = self.approach_and_pinch(s, hand, box)
+        self.assertIn("GRASP", states)
+        # The grasp sees the ARM's fingertips: they stop at the block's sides while the
+        # pinched target has its fingertips 5 mm apart, deep inside the block.
+        snap = s.core.snapshot()
+        index, thumb = App.Vector(*snap["hand"][0]), App.Vector(*snap["hand"][1])
+        target = s.target
+        print("arm: fingertips %.1f mm apart on the block (target %.1f mm apart)"
+              % ((index - thumb).Length, (target[0] - target[1]).Length))
+        self.assertGreater((index - thumb).Length, 55.0)   # the block's 60 mm, the fingertips a little in
+        self.assertLess((index - thumb).Length, 65.0)
+        self.assertLess((target[0] - target[1]).Length, 10.0)   # closed: index 15, thumb 40 mm inside
+        states += self.drive(s, hand, [(0.8, self.move(0, 50, 0.6)), (0.3, None)])
+        self.assertIn("MANIPULATE", states)
+        raised = self.block.Placement.Base.z - before.Base.z
+        s.stop()
+        print("simulated arm: target lifted 50 mm, block raised %.1f mm in %d move(s), states %s"
+              % (raised, s.moves, states))
+        self.assertGreater(raised, 25.0)
+        self.assertGreaterEqual(s.moves, 1)
+        self.assertEqual(set(self.doc.UndoNames), {"Haptic move Block"})
+        for _ in range(self.doc.UndoCount):
+            self.doc.undo()
+        self.assertTrue(hs.same_placement(self.block.Placement, before), self.block.Placement)
+
+    @unittest.skip("not yet: the simulated arm drops the block during the carry (the grasp releases when the "
+                   "arm's fingertips open 2 mm, d_h, as its hand lags and yaws; measured: lifted ~53 mm, "
+                   "carried ~25 of 60 mm, 6-8 undo steps)")
+    def test_approach_pinch_lift_move_put_down_open_moves_the_block_in_one_undo_step(self):
+        before = App.Placement(self.block.Placement)
+        s, hand, box = self.arm_session()
+        s.set_hand(*hand.tick(0.0))
+        s.start()
+        states = self.approach_and_pinch(s, hand, box)
+        lift, carry = 50.0, 60.0
+        states += self.drive(s, hand, [(0.8, self.move(0, lift, 0.6)), (0.4, None)])
+        states += self.drive(s, hand, [(0.9, self.move(carry, 0, 0.7)), (0.4, None)])
+        states += self.drive(s, hand, [(0.8, self.move(0, -lift, 0.6)), (0.5, None)])
+        hand.pinch(False)
+        states += self.drive(s, hand, [(0.8, None), (0.6, self.move(0, 40, 0.5))])
+        s.stop()
+        moved = self.block.Placement.Base - before.Base
+        print("simulated arm: moved the block by (%.3f, %.3f, %.3f) mm for (%.1f, 0, 0), %d move(s), states %s"
+              % (moved.x, moved.y, moved.z, carry, s.moves, states))
+        self.assertEqual(states[-1], "FREE", states)
+        self.assertAlmostEqual(moved.x, carry, delta=6.0)
+        self.assertAlmostEqual(moved.y, 0.0, delta=6.0)
+        self.assertAlmostEqual(moved.z, 0.0, delta=6.0)
+        self.assertEqual(self.doc.UndoNames, ["Haptic move Block"])
+        self.doc.undo()
+        self.assertTrue(hs.same_placement(self.block.Placement, before), self.block.Placement)
+
+    def test_a_target_that_goes_silent_mid_move_aborts_and_restores_the_block(self):
+        before = App.Placement(self.block.Placement)
+        s, hand, box = self.arm_session(hold_s=0.05)   # silent 50 ms after the last target
+        s.set_hand(*hand.tick(0.0))
+        s.start()
+        states = self.approach_and_pinch(s, hand, box)
+
+        def carrying():
+            return s.active is not None and (self.block.Placement.Base - before.Base).Length > 3.0
+
+        more, carried = self.drive_until(s, hand, [(0.8, self.move(0, 50, 0.6)), (0.3, None)], carrying)
+        states += more
+        self.assertTrue(carried, states)
+        deadline = time.monotonic() + 3.0   # the target is no longer set: silence after 50 ms
+        while s.running and time.monotonic() < deadline:
+            s.tick()
+            time.sleep(TICK_S)
+        print("silent target: states %s, messages %s, fault %s, moves %d" % (states, s.messages, s.fault, s.moves))
+        self.assertFalse(s.running)
+        self.assertEqual(s.aborted, 1)
+        self.assertIsNone(s.active)
+        self.assertEqual(self.doc.UndoCount, s.moves)   # the aborted move left no undo step
+        self.assertEqual(len(s.messages), 1, s.messages)
+        self.assertIn("device fault (silent)", s.messages[0])
+        self.assertIn("Block", s.messages[0])
+        for _ in range(self.doc.UndoCount):
+            self.doc.undo()
+        self.assertTrue(hs.same_placement(self.block.Placement, before), self.block.Placement)
+
+
 def _report(report_id, *values):
     """A SpaceMouse-style report: the ID, then int16 little-endian values."""
     import struct

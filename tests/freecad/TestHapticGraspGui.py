@@ -428,6 +428,67 @@ class HapticGraspGui(unittest.TestCase):
         self.assertEqual(doc.UndoCount, 0)
         App.closeDocument(doc.Name)
 
+    def test_the_simulated_arm_follows_the_mouse_target_from_real_events(self):
+        from PySide2 import QtWidgets
+        doc = App.newDocument("HapticGraspArmEvents")
+        doc.UndoMode = 1
+        block = doc.addObject("Part::Feature", "Block")
+        shape = Part.Shape()
+        shape.importBrep(os.path.join(RESOURCES, "parts", "block.brep"))
+        block.Shape = shape
+        doc.recompute()
+        doc.clearUndos()
+        Gui.ActiveDocument.ActiveView.viewFront()   # right = +x, up = +z
+        Gui.SendMsgToActiveView("ViewFit")
+        controller = hgui._HapticGraspController
+        with _ErrorLog() as log:
+            try:
+                Gui.activateWorkbench("HapticGraspWorkbench")
+                panel = controller.show_panel()
+                combo = panel.form.findChild(QtWidgets.QComboBox, "HapticGrasp_DeviceCombo")
+                arm = combo.findData("arm")
+                self.assertGreaterEqual(arm, 0)
+                self.assertEqual(combo.itemText(arm), "Simulated arm (mouse + keyboard)")
+                self.assertTrue(combo.model().item(arm).isEnabled())
+                combo.setCurrentIndex(arm)
+                self.assertEqual(controller.device, "arm")
+                self._start_and_build()
+                self.assertIsNotNone(controller.events)
+                session = controller.session
+                self.assertEqual(session.core.device_name, "simulated arm")
+                self._wait(0.8)   # the arm settles on its first target
+                overlay = controller.overlay
+                self.assertIsNotNone(overlay)
+                from pivy import coin
+                self.assertEqual(overlay.target_switch.whichChild.getValue(), coin.SO_SWITCH_ALL)
+                x, y = 300, 300
+                self._move_mouse(x, y)
+                self._wait(0.1)
+                target0 = (session.target[0] + session.target[1]) * 0.5
+                arm0, _ = self._snapshot_hand(controller)
+                px = max(1, int(round(20.0 / self._mm_per_px(x, y))))   # about 20 mm to the right
+                for i in range(1, 11):
+                    self._move_mouse(x + px * i // 10, y)
+                    self._wait(0.03)
+                self._wait(1.0)
+                target1 = (session.target[0] + session.target[1]) * 0.5
+                arm1, _ = self._snapshot_hand(controller)
+                wanted, got = target1 - target0, arm1 - arm0
+                print("arm from real events: target moved (%.1f, %.1f, %.1f) mm, the arm's grip centre "
+                      "(%.1f, %.1f, %.1f) mm" % (wanted.x, wanted.y, wanted.z, got.x, got.y, got.z))
+                self.assertGreater(wanted.x, 10.0)
+                self.assertAlmostEqual(got.x, wanted.x, delta=0.25 * wanted.x)   # the arm follows, its own way
+                self.assertEqual(session.fault, "none")
+            finally:
+                controller.stop()
+                if controller.panel is not None:
+                    controller.panel.reject()
+                controller.device = "demo"
+                self._wait(0.1)
+        self.assertEqual(log.errors, [])
+        self.assertEqual(doc.UndoCount, 0)
+        App.closeDocument(doc.Name)
+
     def _grasp_and_lift_with_events(self, controller, cylinder):
         """Hand open around the cylinder (set directly), then real events: G pinches, the
         mouse lifts the hand 50 mm in small steps, until the part is being moved."""

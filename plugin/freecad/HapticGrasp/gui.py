@@ -16,10 +16,11 @@ class _HapticGraspController:
     overlay = None    # the Coin overlay (HapticOverlay), present while running
     sounds = None     # SoundBoard, created once
     last_state = "FREE"
-    device = "demo"   # the panel's device choice: "demo" (scripted hand), "mouse",
+    device = "demo"   # the panel's device choice: "demo" (scripted hand), "mouse", "arm"
+    #                   (the simulated arm driven by the mouse hand as its target),
     #                   "spacemouse:<path>" or "hid:<path>" (an attached HID device)
     device_layout = ""  # the layout file of a "hid:" device
-    hand = None       # MouseHand while the mouse-and-keyboard device runs
+    hand = None       # MouseHand while the mouse-and-keyboard device (or the arm's target) runs
     hand_clock = None
     events = None     # MouseEvents (Coin callbacks on the 3D view) while it runs
     selected = []     # the selection at Start (the demo hand's target)
@@ -86,12 +87,17 @@ class _HapticGraspController:
         selected = [o for o in getattr(cls, "selected", []) if o in session.objects]
         target = selected[0] if selected else session.objects[0]
         view = getattr(Gui.ActiveDocument, "ActiveView", None) if Gui.ActiveDocument else None
-        if cls.device == "mouse" and view is not None and hasattr(view, "addEventCallbackPivy"):
+        if cls.device in ("mouse", "arm") and view is not None and hasattr(view, "addEventCallbackPivy"):
             # A hand fed from Python: the mouse and keyboard move a MouseHand, the timer
-            # feeds session.set_hand() with its tick; silent 0.5 s -> watchdog fault.
+            # feeds session.set_hand() with its tick; silent 0.5 s -> watchdog fault. With
+            # the simulated arm that hand is the target its operator pulls the arm to.
             import time
-            session.use_hand_input(hold_s=0.5)
-            cls.hand = _mouse_hand_for(view, target)
+            if cls.device == "arm":
+                rest = session.use_simulated_arm(target, hold_s=0.5)
+                cls.hand = _arm_hand_for(view, target, rest)
+            else:
+                session.use_hand_input(hold_s=0.5)
+                cls.hand = _mouse_hand_for(view, target)
             cls.hand_clock = time.monotonic()
             cls.events = MouseEvents(view, cls)
         elif cls.device.startswith(("spacemouse:", "hid:")):
@@ -207,7 +213,8 @@ class _HapticGraspController:
                 rotation = hs.to_placement(snap["placements"][grasped]).Rotation
             more = [(App.Vector(*p), App.Vector(*f))
                     for p, f in zip(snap.get("fingertips", [])[2:], snap.get("fingertip_forces", [])[2:])]
-            cls.overlay.update(state, session.hand_at(snap.get("time_s", 0.0)), forces, rotation, fault, more)
+            cls.overlay.update(state, session.hand_at(snap.get("time_s", 0.0)), forces, rotation, fault, more,
+                               target=session.target)
 
     @classmethod
     def cancel(cls):
@@ -259,6 +266,19 @@ def _mouse_hand_for(view, target):
     return MouseHand(centre_mm=box.Center + up * (0.5 * size + 20.0), grip_mm=size + 40.0,
                      min_grip_mm=0.0, rate_mm_s=40.0, right=right, up=up, view_dir=into,
                      wrist_up_mm=100.0)
+
+
+def _arm_hand_for(view, target, rest):
+    """The simulated arm operator's target: a MouseHand at the arm's resting grip centre,
+    its grip along the arm's grip axis, open ARM_CLEARANCE_MM outside `target`."""
+    from . import mouse_hand
+    rotation = view.getCameraOrientation()
+    axis = App.Vector(*rest["grip_axis"])
+    box = hs.global_bound_box(target)
+    width = abs(axis.x) * box.XLength + abs(axis.y) * box.YLength
+    return mouse_hand.for_arm(rest, width, right=rotation.multVec(App.Vector(1, 0, 0)),
+                              up=rotation.multVec(App.Vector(0, 1, 0)),
+                              view_dir=rotation.multVec(App.Vector(0, 0, -1)))
 
 
 class MouseEvents:

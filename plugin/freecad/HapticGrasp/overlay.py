@@ -6,7 +6,9 @@ scene graph, never document objects (no undo, nothing saved). GUI thread only.
   - force arrows from each fingertip, length = force * ARROW_MM_PER_N (hidden while the
     force is zero or unknown);
   - the grasp frame: three short lines (x red, y green, z blue) at the fingertips'
-    midpoint, turned with the grasped part.
+    midpoint, turned with the grasped part;
+  - with the simulated arm, the operator's target (the mouse hand) as two faint, smaller
+    spheres: the arm's fingertips (the hand the servo loop used) lag and stop at surfaces.
 """
 import FreeCAD as App
 
@@ -24,6 +26,7 @@ WRIST_SIZE_MM = 10.0
 ARROW_MM_PER_N = 5.0
 FRAME_LENGTH_MM = 25.0
 EXTRA_FINGERTIPS = 3   # fingertips 2..4 of a multi-finger device, shown only when it has them
+TARGET_RADIUS_MM = 2.5
 
 
 class HapticOverlay:
@@ -67,6 +70,27 @@ class HapticOverlay:
         for node in (colours, binding, style, self.frame_coords, lines):
             frame.addChild(node)
         self.root.addChild(frame)
+        # the arm operator's target: faint spheres in a switch (hidden without a target)
+        self.target_switch = coin.SoSwitch()
+        self.target_switch.setName(ROOT_NAME + "Target")
+        sep = coin.SoSeparator()
+        material = coin.SoMaterial()
+        material.diffuseColor = (0.6, 0.6, 0.9)
+        material.transparency = 0.6
+        sep.addChild(material)
+        self.targets = []
+        for _name in ("Index", "Thumb"):
+            tip = coin.SoSeparator()
+            move = coin.SoTranslation()
+            sphere = coin.SoSphere()
+            sphere.radius = TARGET_RADIUS_MM
+            tip.addChild(move)
+            tip.addChild(sphere)
+            sep.addChild(tip)
+            self.targets.append(move)
+        self.target_switch.addChild(sep)
+        self.target_switch.whichChild = coin.SO_SWITCH_NONE
+        self.root.addChild(self.target_switch)
         self.graph.addChild(self.root)
         self.update("FREE")
 
@@ -127,14 +151,21 @@ class HapticOverlay:
     def attached(self):
         return self.graph is not None and self.graph.findChild(self.root) >= 0
 
-    def update(self, state, hand=None, forces=None, frame_rotation=None, fault=False, more=()):
+    def update(self, state, hand=None, forces=None, frame_rotation=None, fault=False, more=(), target=None):
         """state: the grasp state; hand: (index, thumb, wrist) Vectors in mm or None;
         forces: (index, thumb) force Vectors in N or None; frame_rotation: the grasped
         part's Rotation (None: the world axes); more: (point mm, force N) Vectors of the
-        fingertips after the thumb, for a multi-finger device (the others are hidden)."""
+        fingertips after the thumb, for a multi-finger device (the others are hidden);
+        target: the simulated arm operator's (index, thumb, ...) Vectors in mm, or None."""
         colour = FAULT_COLOUR if fault else STATE_COLOURS.get(state, STATE_COLOURS["FREE"])
         self.state_material.diffuseColor = colour
         self.state_material.emissiveColor = tuple(0.5 * c for c in colour)  # lit or not
+        if target is None:
+            self.target_switch.whichChild = self.coin.SO_SWITCH_NONE
+        else:
+            for move, point in zip(self.targets, target[:2]):
+                move.translation = (point.x, point.y, point.z)
+            self.target_switch.whichChild = self.coin.SO_SWITCH_ALL
         if hand is None:
             return
         index, thumb, wrist = hand

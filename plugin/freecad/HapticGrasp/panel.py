@@ -8,6 +8,7 @@ NOT_EXPOSED = "n/a (not in the core snapshot)"
 DEVICES = (
     ("demo", "Demo script", "set_hand_script"),
     ("mouse", "Mouse and keyboard", "use_hand_input"),
+    ("arm", "Simulated arm (mouse + keyboard)", "use_simulated_arm"),
 )
 NO_HID = "SpaceMouse / HID: none attached"
 
@@ -92,7 +93,9 @@ class HapticTaskPanel:
         self.device_combo = QtWidgets.QComboBox()
         self.device_combo.setObjectName("HapticGrasp_DeviceCombo")
         self.device_combo.setToolTip("Mouse and keyboard: move the mouse to move the hand in the view "
-                                     "plane, wheel for depth, hold G to pinch, Esc cancels")
+                                     "plane, wheel for depth, hold G to pinch, Esc cancels. Simulated arm: "
+                                     "the same keys move the target of a simulated operator who drives the "
+                                     "simulated master arm; the grasp feels the arm's fingertips")
         from . import session as hs
         for key, title, available in available_devices(hs.core.Session):
             self.device_combo.addItem(title if available else title + " (not available in this build)", key)

@@ -237,7 +237,9 @@ class HapticSession:
         self.fault = "none"
         self._script = None       # (keys, frame Placement, pivot Vector) of a scripted hand
         self._hand = None         # the last set_hand() (index, thumb, wrist) in mm
-        self._device_hand = False  # a HID device: the hand comes from the snapshot
+        self._device_hand = False  # a HID device or the arm: the hand comes from the snapshot
+        self.target = None        # the simulated arm: the last target set_hand() gave (Vectors, mm)
+        self.arm = None           # the simulated arm's resting hand (arm_rest()), when it is the device
         self.cancelled = False
         self._candidates = collect_solids(doc, self.messages)
         self._requested = []   # (object, the Shape exported), in the build's request order
@@ -346,6 +348,7 @@ class HapticSession:
         self._script = (list(keys), frame, App.Vector(pivot) if pivot is not None else App.Vector(frame.Base))
         self._hand = None
         self._device_hand = False
+        self.arm = self.target = None
 
     def use_hand_input(self, hold_s=0.5):
         """A hand fed with set_hand() (the GUI, a script); it counts as silent hold_s after
@@ -353,6 +356,34 @@ class HapticSession:
         self.core.use_hand_input(hold_s)
         self._script = None
         self._device_hand = False
+        self.arm = self.target = None
+
+    ARM_REST_ABOVE_MM = 30.0   # the arm's resting grip centre above the target part's top
+
+    def use_simulated_arm(self, target=None, rest=None, grip_axis=None, hold_s=0.5):
+        """The simulated master arm: set_hand() gives its simulated operator's target (the
+        mouse-and-keyboard hand), the grasp sees the ARM's fingertips (the snapshot's hand)
+        and the forces go to its joints. Placed so that its resting grip centre is `rest` (a
+        Vector, mm), by default ARM_REST_ABOVE_MM above the top centre of `target` (a
+        document object, global bounding box), with its grip axis (thumb -> index) along
+        `grip_axis` (a horizontal Vector), by default the box's narrower horizontal side
+        (y for the sample block). The hand opens to about 100 mm: a part is grasped across
+        a side narrower than about 70 mm. Silent hold_s after the last set_hand().
+        Returns the arm's resting hand: a dict of index, thumb, wrist, grip_axis (mm)."""
+        box = global_bound_box(target) if target is not None else None
+        if rest is None:
+            if box is None:
+                raise ValueError("use_simulated_arm: give a target part or a rest point")
+            rest = App.Vector(box.Center.x, box.Center.y, box.ZMax + self.ARM_REST_ABOVE_MM)
+        if grip_axis is None:
+            grip_axis = (App.Vector(0, 1, 0) if box is None or box.YLength <= box.XLength
+                         else App.Vector(1, 0, 0))
+        self.core.use_simulated_arm((rest[0], rest[1], rest[2]), (grip_axis[0], grip_axis[1], grip_axis[2]),
+                                    hold_s)
+        self.arm = self.core.arm_rest()
+        self._script, self._hand, self._device_hand = None, None, True
+        self.target = None
+        return self.arm
 
     def use_spacemouse(self, path="", start=None, open_mm=80.0, closed_mm=0.0):
         """A SpaceMouse (path "": the first attached), opened now: its grip centre starts at
@@ -363,6 +394,7 @@ class HapticSession:
         start_mm = (0.0, 0.0, 0.0) if start is None else (start[0], start[1], start[2])
         self.core.use_spacemouse(path, start_mm, float(open_mm), float(closed_mm))
         self._script, self._hand, self._device_hand = None, None, True
+        self.arm = self.target = None
 
     def use_hid(self, layout, path="", origin=None):
         """The HID device the JSON `layout` file describes (path "": the first attached one
@@ -371,11 +403,17 @@ class HapticSession:
         origin_mm = (0.0, 0.0, 0.0) if origin is None else (origin[0], origin[1], origin[2])
         self.core.use_hid(layout, path, origin_mm)
         self._script, self._hand, self._device_hand = None, None, True
+        self.arm = self.target = None
 
     def set_hand(self, index_mm, thumb_mm, wrist_mm):
-        """The hand now, document coordinates (mm); lock-free, cheap."""
+        """The hand now, document coordinates (mm); lock-free, cheap. With the simulated
+        arm this is the operator's target (`target`); the hand is then the arm's."""
         self.core.set_hand(tuple(index_mm), tuple(thumb_mm), tuple(wrist_mm))
-        self._hand = tuple(App.Vector(*p) for p in (index_mm, thumb_mm, wrist_mm))
+        hand = tuple(App.Vector(*p) for p in (index_mm, thumb_mm, wrist_mm))
+        if self.arm is not None:
+            self.target = hand
+        else:
+            self._hand = hand
 
     def hand_at(self, t):
         """The device's hand (index, thumb, wrist: Vectors, mm, document coordinates) at
@@ -447,7 +485,7 @@ class HapticSession:
     def tick(self):
         """Read a snapshot and bring the document up to date. Returns the snapshot."""
         snap = self.core.snapshot()
-        if self._device_hand and snap["tick"] > 0:   # a HID device: the hand it last read
+        if self._device_hand and snap["tick"] > 0:   # a HID device, the arm: the hand it last read
             self._hand = tuple(App.Vector(*p) for p in snap["hand"])
         if snap["fault"] != "none":
             if self.fault == "none":

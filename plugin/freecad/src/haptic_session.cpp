@@ -221,6 +221,7 @@ void Session::setHandScript(const std::vector<HandKeyMm>& keys, const Placement&
   script_ = std::make_unique<grasp::HandScript>(std::move(k), toPose(frame), toMetres(pivot_mm));
   handHold_s_ = 0;
   hid_.reset();
+  arm_.reset();
 }
 
 void Session::useHandInput(double hold_s) {
@@ -229,6 +230,25 @@ void Session::useHandInput(double hold_s) {
   handHold_s_ = hold_s;
   script_.reset();
   hid_.reset();
+  arm_.reset();
+}
+
+void Session::useSimulatedArm(const std::array<double, 3>& rest_mm, const std::array<double, 3>& grip_axis,
+                              double hold_s) {
+  if (loop_) throw std::logic_error("the device must be chosen before start()");
+  const Vec3 axis(grip_axis[0], grip_axis[1], grip_axis[2]);  // a direction: no unit
+  auto arm = std::make_shared<ArmInputDevice>(toMetres(rest_mm), axis, hold_s);  // throws: nothing changed
+  arm_ = std::move(arm);
+  handHold_s_ = 0;
+  script_.reset();
+  hid_.reset();
+}
+
+Session::ArmRest Session::armRest() const {
+  if (!arm_) throw std::logic_error("the simulated arm is not the device: useSimulatedArm() first");
+  const device::ArmPose& p = arm_->restPose();
+  const Vec3 u = arm_->gripAxis();
+  return {toMillimetres(p.index), toMillimetres(p.thumb), toMillimetres(p.wrist), {u.x(), u.y(), u.z()}};
 }
 
 void Session::useSpaceMouse(const std::string& path, const std::array<double, 3>& start_mm, double open_mm,
@@ -244,6 +264,7 @@ void Session::useSpaceMouse(const std::string& path, const std::array<double, 3>
   hid_ = std::move(opened);
   handHold_s_ = 0;
   script_.reset();
+  arm_.reset();
 }
 
 void Session::useHid(const std::string& layoutFile, const std::string& path, const std::array<double, 3>& origin_mm) {
@@ -252,11 +273,20 @@ void Session::useHid(const std::string& layoutFile, const std::string& path, con
   hid_ = std::move(opened);
   handHold_s_ = 0;
   script_.reset();
+  arm_.reset();
 }
 
 void Session::setHand(const std::array<double, 3>& index_mm, const std::array<double, 3>& thumb_mm,
                       const std::array<double, 3>& wrist_mm) {
-  if (!input_) throw std::logic_error("no hand input device: useHandInput() and start() first");
+  if (arm_) {
+    device::HandTarget target;
+    target.index = toMetres(index_mm);
+    target.thumb = toMetres(thumb_mm);
+    target.wrist = toMetres(wrist_mm);
+    arm_->setTarget(target);
+    return;
+  }
+  if (!input_) throw std::logic_error("no hand input device: useHandInput() and start(), or useSimulatedArm(), first");
   grasp::HandSample hand;
   hand.index = toMetres(index_mm);
   hand.thumb = toMetres(thumb_mm);
@@ -268,6 +298,7 @@ std::string Session::deviceName() const {
   if (handHold_s_ > 0) return HandInputDevice::defaultSpec().name;
   if (script_) return servo::ScriptedHandDevice::defaultSpec().name;
   if (hid_) return hid_->spec().name;
+  if (arm_) return arm_->spec().name;
   return "none";
 }
 
@@ -275,6 +306,7 @@ bool Session::deviceForceOutput() const {
   if (handHold_s_ > 0) return HandInputDevice::defaultSpec().forceOutput;
   if (script_) return servo::ScriptedHandDevice::defaultSpec().forceOutput;
   if (hid_) return hid_->spec().forceOutput;
+  if (arm_) return arm_->spec().forceOutput;
   return false;
 }
 
@@ -330,6 +362,8 @@ void Session::start(double rate_hz, bool realtime) {
     device = scripted_ = std::make_shared<servo::ScriptedHandDevice>(*script_);
   } else if (hid_) {
     device = hid_;
+  } else if (arm_) {
+    device = arm_;
   } else {
     throw std::invalid_argument("no device: set a hand script or use the hand input first");
   }
@@ -408,6 +442,7 @@ void Session::setDeviceSilent(bool silent) {
   if (scripted_) scripted_->setSilent(silent);
   else if (input_) input_->setSilent(silent);
   else if (hid_ && loop_) hid_->setSilent(silent);
+  else if (arm_ && loop_) arm_->setSilent(silent);
   else throw std::logic_error("no device yet: start() first");
 }
 

@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "arm_input_device.hpp"
 #include "freecad_boundary.hpp"
 #include "hand_input_device.hpp"
 #include "hid_input.hpp"
@@ -165,8 +166,23 @@ class Session {
   double scriptDuration() const;
   // Or: a hand the front end sets (setHand, mm); silent after hold_s without a new hand.
   void useHandInput(double hold_s = 0.5);
+  // setHand() also feeds the simulated arm's target (below) when that is the device.
   void setHand(const std::array<double, 3>& index_mm, const std::array<double, 3>& thumb_mm,
                const std::array<double, 3>& wrist_mm);
+  // Or: the simulated master arm (resources/arms/master_arm.urdf) whose simulated operator
+  // pulls the arm's hand towards the hand setHand() gives (the target, mm); the grasp sees
+  // the arm's fingertips and its forces are mapped to the arm's joints. The arm is placed
+  // so that its resting grip centre is at rest_mm and its resting grip axis (thumb -> index)
+  // along the horizontal direction grip_axis (zero: the arm's own); silent hold_s after
+  // the last setHand(). Made now (loads the URDF): setHand() may be called before start().
+  void useSimulatedArm(const std::array<double, 3>& rest_mm, const std::array<double, 3>& grip_axis,
+                       double hold_s = 0.5);
+  // The chosen arm's hand at rest (index, thumb, wrist, mm), its grip axis (unit,
+  // thumb -> index, horizontal). Throws std::logic_error when the arm is not the device.
+  struct ArmRest {
+    std::array<double, 3> index_mm{}, thumb_mm{}, wrist_mm{}, gripAxis{};
+  };
+  ArmRest armRest() const;
   // Or: a SpaceMouse (path empty: the first attached), opened now; its grip centre starts
   // at start_mm, the grip opens to open_mm and pinches to closed_mm (button 1 pinches,
   // button 2 opens). Input only: no forces are displayed, the grasp still works.
@@ -216,6 +232,7 @@ class Session {
   double handHold_s_ = 0;  // > 0: the hand input device was chosen
   std::shared_ptr<servo::ScriptedHandDevice> scripted_;
   std::shared_ptr<HandInputDevice> input_;
+  std::shared_ptr<ArmInputDevice> arm_;  // the simulated arm, made when chosen
   std::shared_ptr<device::Device> device_;  // the one start() made, reused by restart()
   servo::ServoConfig config_;
   double timeOffset_s_ = 0;                 // servo time of the loops before a restart()

@@ -254,6 +254,27 @@ PYBIND11_MODULE(_hapticgrasp, m) {
            "The device: a hand set with set_hand(); silent hold_s after the last set_hand().")
       .def("set_hand", &freecad::Session::setHand, py::arg("index_mm"), py::arg("thumb_mm"), py::arg("wrist_mm"),
            "Any one thread: the hand now (absolute frame, mm); lock-free.")
+      .def("use_simulated_arm", &freecad::Session::useSimulatedArm, py::arg("rest_mm"),
+           py::arg("grip_axis") = std::array<double, 3>{0, 0, 0}, py::arg("hold_s") = 0.5,
+           "The device: the simulated master arm, its resting grip centre placed at rest_mm (document, mm), its "
+           "grip axis (thumb -> index) turned about the vertical onto the horizontal direction grip_axis "
+           "(zero: the arm's own). "
+           "set_hand() then sets the simulated operator's target (mm); the grasp sees the arm's fingertips "
+           "and its forces go to the arm's joints. Silent hold_s after the last set_hand(). The hand opens to "
+           "about 100 mm; arm_rest() gives its resting hand.")
+      .def(
+          "arm_rest",
+          [](const freecad::Session& s) {
+            const auto r = s.armRest();
+            py::dict d;
+            d["index"] = py::make_tuple(r.index_mm[0], r.index_mm[1], r.index_mm[2]);
+            d["thumb"] = py::make_tuple(r.thumb_mm[0], r.thumb_mm[1], r.thumb_mm[2]);
+            d["wrist"] = py::make_tuple(r.wrist_mm[0], r.wrist_mm[1], r.wrist_mm[2]);
+            d["grip_axis"] = py::make_tuple(r.gripAxis[0], r.gripAxis[1], r.gripAxis[2]);
+            return d;
+          },
+          "The simulated arm's hand at rest (index, thumb, wrist: mm, document) and its grip axis (unit, "
+          "horizontal, thumb -> index). Raises RuntimeError when the arm is not the device.")
       .def("use_spacemouse", &freecad::Session::useSpaceMouse, py::arg("path") = "",
            py::arg("start_mm") = std::array<double, 3>{0, 0, 0}, py::arg("open_mm") = 80.0, py::arg("closed_mm") = 0.0,
            "The device: a SpaceMouse (path '': the first attached), opened now. Its grip centre starts at start_mm "
