@@ -133,8 +133,16 @@ void SimulatedMasterArm::write(const DeviceCommand& command) noexcept {
   const double fg = std::isfinite(command.f_grasp)
                         ? std::clamp(command.f_grasp, -spec_.maxForce_N, spec_.maxForce_N)
                         : 0.0;
-  lastTorques_ = arm_.mapTorques(kin_, tau_g, clampForce(command.f_index, spec_.maxForce_N),
-                                 clampForce(command.f_thumb, spec_.maxForce_N),
+  // The arm has a grip Jacobian, so a grasp state's command (f_g > 0) is displayed by eq 25
+  // alone: J_w^T [f_w; m_w] + J_g^T f_g. Its fingertip forces are that same grip force
+  // again, +-f_g h1 for devices WITHOUT a grip joint (two_finger_grasp.hpp); mapping them
+  // too (eq 10) doubled the grip torques on the finger joints, since
+  // J_i^T f_g h1 - J_t^T f_g h1 = J_g^T f_g, and kicked the operator's fingers open past
+  // d_h: the held part was released and re-grasped many times and dropped mid-lift.
+  // Contact states (f_g = 0) map the fingertip forces (eq 10).
+  const bool grasping = fg > 0;
+  lastTorques_ = arm_.mapTorques(kin_, tau_g, grasping ? Vec3::Zero() : clampForce(command.f_index, spec_.maxForce_N),
+                                 grasping ? Vec3::Zero() : clampForce(command.f_thumb, spec_.maxForce_N),
                                  clampForce(command.f_wrist, spec_.maxForce_N),
                                  clampForce(command.m_wrist, spec_.maxTorque_Nm), fg);
   tauMotor_ = lastTorques_.tau;

@@ -340,6 +340,39 @@ TEST(SimulatedMasterArm, GravityCompensationHoldsTheArm) {
   EXPECT_TRUE(falling.joints().allFinite());
 }
 
+// In GRASP and MANIPULATE the grasp's command carries the grip force twice over: as f_g
+// (eq 24, for a device with a grip joint) and as +-f_g h1 on the fingertips (for devices
+// without one). The arm has a grip Jacobian: it must display eq 25 -- J_g^T f_g once, not
+// J_g^T f_g plus J_i^T f_g h1 - J_t^T f_g h1 (the same torques again: twice the grip force,
+// which kicked the operator's fingers past d_h and released the held part). Contact states
+// (f_g = 0) still map the fingertip forces (eq 10).
+TEST(SimulatedMasterArm, GraspCommandDisplaysTheGripForceOnce) {
+  SimulatedArmOptions options;
+  options.initialJoints = holdPose();
+  SimulatedMasterArm device(options);
+  const ArmPose p = device.pose();
+  const Vec3 h1 = (p.index - p.thumb).normalized();
+  DeviceCommand grasp;
+  grasp.f_grasp = 3;
+  grasp.f_index = grasp.f_grasp * h1;
+  grasp.f_thumb = -grasp.f_index;
+  grasp.f_wrist = Vec3(0.5, -1, -4);
+  grasp.m_wrist = Vec3(0.02, 0.1, 0);
+  device.write(grasp);
+  const ArmTorques expected = device.arm().graspTorques(device.joints(), grasp.f_wrist, grasp.m_wrist, grasp.f_grasp);
+  ASSERT_FALSE(expected.saturated());
+  EXPECT_LT((device.lastTorques().unsaturated - expected.unsaturated).cwiseAbs().maxCoeff(), 1e-12)
+      << "finger torques " << device.lastTorques().unsaturated.tail<3>().transpose() << " vs eq 25 "
+      << expected.unsaturated.tail<3>().transpose();
+
+  DeviceCommand contact;
+  contact.f_index = Vec3(0, -2, 1);
+  contact.f_thumb = Vec3(0.5, 1, 0);
+  device.write(contact);
+  const ArmTorques eq10 = device.arm().contactTorques(device.joints(), contact.f_index, contact.f_thumb);
+  EXPECT_LT((device.lastTorques().unsaturated - eq10.unsaturated).cwiseAbs().maxCoeff(), 1e-12);
+}
+
 TEST(SimulatedMasterArm, SpecAndSamples) {
   SimulatedMasterArm device;
   const DeviceSpec& s = device.spec();
@@ -480,3 +513,4 @@ TEST(SimulatedMasterArm, DISABLED_WallStiffnessSweep) {
                   run.maxJointSpeed, run.finite ? "" : " NOT FINITE");
     }
 }
+

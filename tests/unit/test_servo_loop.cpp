@@ -608,6 +608,23 @@ TEST(TimingStats, HistogramPercentiles) {
   EXPECT_EQ(h.count(), 1002u);
 }
 
+// The simulated arm and operator grasp, lift, put down and release the machined block once
+// per 1.7 s cycle: over two cycles exactly two grasps, two lifts and two releases -- no
+// release mid-lift and no re-grasp chatter after it. Deterministic (no real-time thread),
+// at the workbench device's 0.2 ms sub-steps. It failed while the arm displayed the grip
+// force twice (f_g through J_g AND +-f_g h1 through J_i, J_t): 43 grasps, 2 lifts, the
+// fingers kicked open past d_h at each grasp.
+TEST(ServoBench, SimulatedArmGraspsAndLiftsTheBlockOncePerCycle) {
+  for (double step : {0.2e-3}) {
+    const OfflineArmBenchResult r = simulateArmBench("block", 0.25 + 2 * 1.7, 2000, step);
+    std::printf("sub-step %.1f ms: grasps %d lifts %d releases %d, largest opening while carried %.2f mm\n", 1e3 * step,
+                r.grasps, r.lifts, r.releases, 1e3 * r.maxCarriedOpening_m);
+    EXPECT_EQ(r.grasps, 2) << "sub-step " << step;
+    EXPECT_EQ(r.lifts, 2) << "sub-step " << step;
+    EXPECT_EQ(r.releases, 2) << "sub-step " << step;
+  }
+}
+
 // Prints the timing at 2 and 8 kHz on this machine with SCHED_FIFO when permitted.
 // HG_SERVO_BENCH_SECONDS (default 1) sets the run length.
 TEST(ServoBench, RealThreadAt2And8kHz) {

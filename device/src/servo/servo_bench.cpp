@@ -3,6 +3,7 @@
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <gp_Ax2.hxx>
 
+#include <algorithm>
 #include <chrono>
 #include <functional>
 #include <cmath>
@@ -13,6 +14,7 @@
 
 #include "hapticgrasp/device/simulated_operator.hpp"
 #include "hapticgrasp/geometry/sample_parts.hpp"
+#include "hapticgrasp/grasp/grasp_state.hpp"
 #include "hapticgrasp/grasp/hand_script.hpp"
 #include "hapticgrasp/grasp/multi_finger/multi_finger_grasp.hpp"
 #include "hapticgrasp/servo/scripted_hand_device.hpp"
@@ -116,6 +118,7 @@ double armPhase(double t) { return t < kArmCycleEnd_s ? t : kArmReach_s + std::f
 
 struct BenchSetup {
   std::shared_ptr<device::Device> device;
+  std::shared_ptr<device::SimulatedMasterArm> arm;  // device "arm" only
   grasp::ScenePtr scene;
   std::function<double()> phase;  // script time within the cycle, read from the bench's thread
   double resetFrom = 0, resetTo = 0, rearmBelow = 0;  // the ResetGrasp window
@@ -183,6 +186,7 @@ BenchSetup armSetup(const geometry::PartModelPtr& model, const geometry::MassSpe
   auto adapter = std::make_shared<AdvancingArmDevice>(arm);
   BenchSetup setup;
   setup.device = adapter;
+  setup.arm = arm;
   setup.scene = std::move(scene);
   setup.phase = [adapter] { return armPhase(adapter->simTime()); };
   setup.resetFrom = 1.87;
@@ -270,6 +274,50 @@ BenchSetup scriptedSetup(const geometry::PartModelPtr& model, const geometry::Ma
 }
 
 }  // namespace
+
+OfflineArmBenchResult simulateArmBench(const std::string& part, double seconds, double rate_hz, double maxStep_s) {
+  if (!(seconds > 0 && seconds <= 3600)) throw std::invalid_argument("bench seconds must be in (0, 3600]");
+  if (!(rate_hz >= 50 && rate_hz <= 10000)) throw std::invalid_argument("bench rate must be in [50, 10000] Hz");
+  if (!(maxStep_s > 0)) throw std::invalid_argument("bench sub-step must be > 0");
+  const geometry::SamplePart sample = geometry::findPart(part);
+  const geometry::PartModelPtr model = geometry::PartModel::fromFile(sample.file, sample.unit);
+  const BenchSetup setup = armSetup(model, sample.mass, geometry::Backend::Auto);
+  device::SimulatedMasterArm& arm = *setup.arm;
+  TwoFingerEngine engine(setup.scene);
+  const double dt = 1.0 / rate_hz;
+  const int substeps = std::max(1, static_cast<int>(std::ceil(dt / maxStep_s)));
+  const int ticks = static_cast<int>(std::llround(seconds * rate_hz));
+  OfflineArmBenchResult r;
+  device::DeviceSample s;
+  bool armed = true, first = true;
+  double graspDistance = 0;
+  for (int k = 0; k < ticks; ++k) {
+    // As the servo loop with AdvancingArmDevice does: advance, read, step the grasp, write.
+    for (int i = 0; i < substeps; ++i) arm.advance(dt / substeps);
+    arm.read(s);
+    const EngineStep g = engine.step(s.hand, first ? 0.0 : dt);
+    first = false;
+    device::DeviceCommand c = g.command;
+    c.f_grasp = std::clamp(std::isfinite(c.f_grasp) ? c.f_grasp : 0.0, 0.0, arm.spec().maxForce_N);
+    arm.write(c);
+    const double distance = (s.hand.index - s.hand.thumb).norm();
+    if (g.events & grasp::kGrasp) {
+      ++r.grasps;
+      graspDistance = distance;
+    }
+    if (g.events & grasp::kLift) ++r.lifts;
+    if (g.events & grasp::kRelease) ++r.releases;
+    const double t = armPhase(arm.time());
+    if (engine.state() == grasp::GraspState::Manipulate && t < 1.55)  // carried, before the hand opens
+      r.maxCarriedOpening_m = std::max(r.maxCarriedOpening_m, distance - graspDistance);
+    if (t > setup.resetFrom && t < setup.resetTo && armed) {  // the bench's ResetGrasp
+      engine.reset();
+      armed = false;
+    }
+    if (t < setup.rearmBelow) armed = true;
+  }
+  return r;
+}
 
 ServoBenchResult runServoBench(double rate_hz, double seconds, bool realtime, AllocationCounter allocationCounter) {
   ServoBenchOptions o;

@@ -156,8 +156,10 @@ class MasterArm {
   // fingertips apart (it resists squeezing, eq 24).
   ArmTorques graspTorques(const ArmVector& theta, const Vec3& f_wrist, const Vec3& m_wrist,
                           double f_grasp) noexcept;
-  // Both at once (the other terms are zero in either state), from precomputed kinematics
-  // and tau_g; then the saturation to the effort limits.
+  // Both at once, from precomputed kinematics and tau_g; then the saturation to the effort
+  // limits. The caller passes zero for the terms of the other state: a grasp's command also
+  // carries its grip force as +-f_g h1 fingertip forces, which would add J_g^T f_g a second
+  // time (SimulatedMasterArm::write leaves them out when f_g > 0).
   ArmTorques mapTorques(const ArmKinematics& kin, const ArmVector& tau_g, const Vec3& f_index,
                         const Vec3& f_thumb, const Vec3& f_wrist, const Vec3& m_wrist,
                         double f_grasp) const noexcept;

@@ -90,7 +90,9 @@ class SimulatedMasterArm final : public Device {
   // The hand from the current joints (absolute frame); false when nothing advanced since
   // the previous read.
   bool read(DeviceSample& sample) noexcept override;
-  // Clamps the command to the spec, maps it to joint torques (eq 10 + eq 25, saturated).
+  // Clamps the command to the spec, maps it to joint torques (saturated): eq 25 when it
+  // carries a grip force f_g > 0 (its fingertip forces, the same grip force, are left out),
+  // eq 10 otherwise.
   void write(const DeviceCommand& command) noexcept override;
   // Integrates the arm and the operator over dt (semi-implicit Euler).
   void advance(double dt) noexcept;

@@ -72,6 +72,19 @@ struct ServoBenchResult {
 // Throws std::invalid_argument for a rate outside [50, 10000] Hz, seconds not in (0, 3600],
 // an unknown device or method, or more fingers than the device has; GeometryError for an unknown part or back end.
 ServoBenchResult runServoBench(const ServoBenchOptions& options);
+// The "arm" bench without the real-time thread, for tests: the same part placement, arm,
+// simulated operator and 1.7 s cycle (and its ResetGrasp), the arm advanced in sub-steps of
+// at most maxStep_s and the two-finger grasp stepped at rate_hz in lock-step, so the run is
+// deterministic. Counts the grasp events; maxCarriedOpening_m is the largest fingertip
+// distance beyond the distance at the grasp while the part is carried (MANIPULATE, until
+// the hand starts to open at 1.55 s into the cycle): it releases at d_h.
+struct OfflineArmBenchResult {
+  int grasps = 0, lifts = 0, releases = 0;
+  double maxCarriedOpening_m = 0;
+};
+OfflineArmBenchResult simulateArmBench(const std::string& part, double seconds, double rate_hz = 2000,
+                                       double maxStep_s = 0.5e-3);
+
 // The original benchmark: device "scripted", the paper's cylinder.
 ServoBenchResult runServoBench(double rate_hz, double seconds, bool realtime = true,
                                AllocationCounter allocationCounter = nullptr);
