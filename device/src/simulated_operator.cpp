@@ -159,6 +159,13 @@ void SimulatedMasterArm::advance(double dt) noexcept {
   sim_.coriolisTorques(theta_, thetaDot_, coriolis);
   sim_.massMatrix(theta_, mass_);
   mass_.diagonal() += operator_.gains().inertia;
+  // The joint damping (the operator's B and the friction b) is integrated implicitly:
+  // (M + dt D) thetaDDot = rhs (rhs still has -D thetaDot_n) is thetaDot_{n+1} = thetaDot_n +
+  // dt M^-1 (tau - D thetaDot_{n+1}). Explicitly, a finger's B over its tiny inertia
+  // (~1e4 /s for the bench's 10x firmer fingers) made steps above ~0.3 ms unstable (dt B / m
+  // > 2): at 0.5 ms the fingers oscillated at the joint limits and never grasped. Implicit
+  // damping is stable at any step; the stiffness leaves a limit of 2 / omega, milliseconds.
+  mass_.diagonal() += dt * (operator_.gains().damping + options_.jointFriction);
 
   // Motor torques: the last command, held; silent longer than the timeout, the device's own
   // watchdog falls back to gravity compensation only (zero displayed force).

@@ -373,6 +373,39 @@ TEST(SimulatedMasterArm, GraspCommandDisplaysTheGripForceOnce) {
   EXPECT_LT((device.lastTorques().unsaturated - eq10.unsaturated).cwiseAbs().maxCoeff(), 1e-12);
 }
 
+// The bench's operator with 10x firmer fingers (B / inertia ~1e4 /s on a finger joint),
+// nudged off its target: it settles at any sub-step up to 1 ms. With the damping
+// integrated explicitly, steps above ~0.3 ms blew up (0.5 ms: joint speeds of 2600 rad/s,
+// the index tip thrown 55 mm).
+TEST(SimulatedMasterArm, FirmFingersAreStableAtLongSteps) {
+  for (double h : {1e-3, 0.5e-3, 0.2e-3}) {
+    SimulatedMasterArm probe;
+    const ArmPose rest = probe.pose();
+    OperatorGains gains;
+    for (int j = kIndexFlexion; j <= kThumbFlexion; ++j) {
+      gains.stiffness[j] *= 10;
+      gains.damping[j] *= 10;
+    }
+    const HandTarget target{rest.index, rest.thumb, rest.wrist};
+    SimulatedMasterArm arm(SimulatedArmOptions{}, [target](double) { return target; }, gains);
+    ArmVector q0 = arm.joints();
+    q0[kIndexFlexion] -= 0.01;
+    q0[kThumbFlexion] += 0.01;
+    q0[kElbowFlexion] += 0.01;
+    arm.setJoints(q0);
+    double maxSpeed = 0, maxDrift = 0;
+    for (int i = 0; i < static_cast<int>(std::lround(1.0 / h)); ++i) {
+      arm.write(DeviceCommand{});
+      arm.advance(h);
+      maxSpeed = std::max(maxSpeed, arm.jointVelocities().cwiseAbs().maxCoeff());
+      maxDrift = std::max(maxDrift, (arm.pose().index - rest.index).norm());
+    }
+    EXPECT_LT(maxSpeed, 1.0) << "step " << h;
+    EXPECT_LT(maxDrift, 0.006) << "step " << h;  // the nudge itself moves the index tip 4.4 mm
+    EXPECT_LT((arm.pose().index - rest.index).norm(), 0.001) << "step " << h;
+  }
+}
+
 TEST(SimulatedMasterArm, SpecAndSamples) {
   SimulatedMasterArm device;
   const DeviceSpec& s = device.spec();

@@ -36,9 +36,9 @@ class ArmInputDevice final : public device::Device {
  public:
   // fingerFirmness scales the operator's finger stiffness and damping (the bench's 10: the
   // default operator's fingers cannot out-squeeze the grasp's grip force).
-  // maxStep_s: the arm's integration sub-step (semi-implicit Euler). The firm fingers need
-  // short steps: with 0.35 ms sub-steps a hand held at its rest pose drifted 80 mm away
-  // (round-off grew: unstable), with 0.28 ms and 0.2 ms it stayed put.
+  // maxStep_s: the arm's integration sub-step (semi-implicit Euler, damping implicit: the
+  // firm fingers are stable up to about 1 ms; with explicit damping they were not above
+  // ~0.3 ms, hence the 0.2 ms default, kept as margin).
   explicit ArmInputDevice(const Vec3& restGripCentre, const Vec3& gripAxis = Vec3::Zero(), double hold_s = 0.5,
                           double fingerFirmness = 10, double maxStep_s = 0.2e-3);
   ~ArmInputDevice() override;

@@ -13,7 +13,8 @@
 // gravity from the URDF) with the operator's own limb inertia added on the diagonal and a
 // little joint friction:
 //   (M + M_op) thetaDDot = tau_op + tau_motor - tau_g,true - C thetaDot - b thetaDot,
-// integrated with semi-implicit Euler by advance(dt). tau_motor is what the last write()
+// integrated with semi-implicit Euler by advance(dt), the joint damping (B of the operator
+// and b) implicitly, so firm fingers are stable at sub-steps up to about 1 ms. tau_motor is what the last write()
 // commanded (eq 10/25: J^T f + tau_g, saturated to the effort limits), held over the step;
 // so the displayed forces push back on the operator and change the motion (closed loop).
 // Joint limits are hard stops (position clamped, inward velocity removed).
@@ -94,7 +95,7 @@ class SimulatedMasterArm final : public Device {
   // carries a grip force f_g > 0 (its fingertip forces, the same grip force, are left out),
   // eq 10 otherwise.
   void write(const DeviceCommand& command) noexcept override;
-  // Integrates the arm and the operator over dt (semi-implicit Euler).
+  // Integrates the arm and the operator over dt (semi-implicit Euler, damping implicit).
   void advance(double dt) noexcept;
 
   double time() const { return t_; }
