@@ -924,9 +924,15 @@ class SimulatedArmSession(unittest.TestCase):
             self.doc.undo()
         self.assertTrue(hs.same_placement(self.block.Placement, before), self.block.Placement)
 
-    @unittest.skip("not yet: the simulated arm drops the block during the carry (the grasp releases when the "
-                   "arm's fingertips open 2 mm, d_h, as its hand lags and yaws; measured: lifted ~53 mm, "
-                   "carried ~25 of 60 mm, 6-8 undo steps)")
+    # The drops (released at d_h, 6-8 undo steps) were the arm displaying the grip force twice;
+    # since that fix the block is carried in one move. Still skipped: the carried block turns
+    # ~90-150 deg about the grip axis: the arm's wrist point lies ~115 mm from the grip centre
+    # along the finger line (beyond the thumb) and only 25-50 mm off it, so eq 17's h2 swings
+    # around h1 as the operator's fingers yaw (the core's arm bench shows it too); measured:
+    # its centre moved (64, -5, -3) mm for (60, 0, 0), its placement Base (82, -4, 17), and the
+    # turned block still touches the thumb after the hand opens and rises (THUMB CONTACT).
+    @unittest.skip("not yet: the carried block turns ~90 deg about the grip axis (eq 17 ill-conditioned: "
+                   "the arm's wrist lies near the finger line); carried in one move since the grip-force fix")
     def test_approach_pinch_lift_move_put_down_open_moves_the_block_in_one_undo_step(self):
         before = App.Placement(self.block.Placement)
         s, hand, box = self.arm_session()
