@@ -34,7 +34,10 @@ struct DeviceSample {
   double deviceTime_s = 0;  // the device's own clock (monotonic), for the watchdog
 };
 
-// The forces and moment to display, absolute frame, as the grasp computed them.
+// The forces and moment to display, absolute frame, as the grasp computed them. In GRASP
+// and MANIPULATE the grip force is given twice over: as f_grasp for a device with a grip
+// joint (eq 25) and inside f_index / f_thumb (±f_g h1) for one without. A device maps one
+// of the two, never both (the simulated arm once did, and its fingers chattered open).
 struct DeviceCommand {
   Vec3 f_index = Vec3::Zero();
   Vec3 f_thumb = Vec3::Zero();
