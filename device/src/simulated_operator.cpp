@@ -5,6 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "hapticgrasp/math/rpy.hpp"
+
 namespace hg::device {
 
 HandPath keyframePath(std::vector<HandKeyframe> keyframes) {
@@ -23,9 +25,19 @@ HandPath keyframePath(std::vector<HandKeyframe> keyframes) {
     const HandKeyframe& a = *(next - 1);
     double s = (t - a.t) / (b.t - a.t);
     s = s * s * (3 - 2 * s);  // smoothstep: zero velocity at the keyframes
-    return {a.target.index + s * (b.target.index - a.target.index),
-            a.target.thumb + s * (b.target.thumb - a.target.thumb),
-            a.target.wrist + s * (b.target.wrist - a.target.wrist)};
+    HandTarget h;
+    h.index = a.target.index + s * (b.target.index - a.target.index);
+    h.thumb = a.target.thumb + s * (b.target.thumb - a.target.thumb);
+    h.wrist = a.target.wrist + s * (b.target.wrist - a.target.wrist);
+    if (a.target.holdOrientation && b.target.holdOrientation) {
+      h.holdOrientation = true;
+      const Vec3 turn = math::rotationVector(b.target.wristRotation * a.target.wristRotation.transpose());
+      h.wristRotation = math::fromRotationVector(s * turn) * a.target.wristRotation;
+    } else if (a.target.holdOrientation || b.target.holdOrientation) {
+      h.holdOrientation = true;
+      h.wristRotation = a.target.holdOrientation ? a.target.wristRotation : b.target.wristRotation;
+    }
+    return h;
   };
 }
 
@@ -46,16 +58,36 @@ void SimulatedOperator::torques(double t, const ArmKinematics& kin, const ArmVec
     return;
   }
   const HandTarget goal = path_(t);
-  Eigen::Matrix<double, 9, 1> e;
-  e << clampNorm(goal.index - kin.pose.index, gains_.maxReach_m),
-      clampNorm(goal.thumb - kin.pose.thumb, gains_.maxReach_m),
-      clampNorm(goal.wrist - kin.pose.wrist, gains_.maxReach_m);
-  Eigen::Matrix<double, 9, kArmJoints> J;
-  J << kin.index, kin.thumb, kin.wrist.topRows<3>();
-  Eigen::Matrix<double, 9, 9> A = J * J.transpose();
-  A.diagonal().array() += gains_.dlsLambda * gains_.dlsLambda;
-  const Eigen::Matrix<double, 9, 1> y = A.ldlt().solve(e);
-  const ArmVector step = J.transpose() * y;
+  const double lambda2 = gains_.dlsLambda * gains_.dlsLambda;
+  ArmVector step;
+  if (goal.holdOrientation && goal.wristRotation.allFinite()) {
+    // Position rows as below, and the wrist's angular rows scaled by w: the rotation vector
+    // of R_goal R^T (absolute frame, as J_w's angular rows) is the angular error.
+    const double w = gains_.orientationWeight_m;
+    Eigen::Matrix<double, 12, 1> e;
+    e << clampNorm(goal.index - kin.pose.index, gains_.maxReach_m),
+        clampNorm(goal.thumb - kin.pose.thumb, gains_.maxReach_m),
+        clampNorm(goal.wrist - kin.pose.wrist, gains_.maxReach_m),
+        clampNorm(w * math::rotationVector(goal.wristRotation * kin.pose.wristRotation.transpose()),
+                  gains_.maxReach_m);
+    Eigen::Matrix<double, 12, kArmJoints> J;
+    J << kin.index, kin.thumb, kin.wrist.topRows<3>(), w * kin.wrist.bottomRows<3>();
+    Eigen::Matrix<double, 12, 12> A = J * J.transpose();
+    A.diagonal().array() += lambda2;
+    const Eigen::Matrix<double, 12, 1> y = A.ldlt().solve(e);
+    step = J.transpose() * y;
+  } else {
+    Eigen::Matrix<double, 9, 1> e;
+    e << clampNorm(goal.index - kin.pose.index, gains_.maxReach_m),
+        clampNorm(goal.thumb - kin.pose.thumb, gains_.maxReach_m),
+        clampNorm(goal.wrist - kin.pose.wrist, gains_.maxReach_m);
+    Eigen::Matrix<double, 9, kArmJoints> J;
+    J << kin.index, kin.thumb, kin.wrist.topRows<3>();
+    Eigen::Matrix<double, 9, 9> A = J * J.transpose();
+    A.diagonal().array() += lambda2;
+    const Eigen::Matrix<double, 9, 1> y = A.ldlt().solve(e);
+    step = J.transpose() * y;
+  }
   tau = gains_.stiffness.cwiseProduct(step) - gains_.damping.cwiseProduct(thetaDot);
 }
 

@@ -547,3 +547,79 @@ TEST(SimulatedMasterArm, DISABLED_WallStiffnessSweep) {
     }
 }
 
+
+namespace {
+// The operator squeezes a block held between the fingertips: the targets aim 15 mm (index)
+// and 40 mm (thumb) inside its sides (as the benches do), the block's sides push back on the
+// fingertips (k = 2000 N/m along the grip axis). Returns the largest turn of the wrist frame
+// from its start (rad) over `seconds`.
+double squeezeTurn(bool holdOrientation, double seconds = 2.0) {
+  SimulatedMasterArm probe;
+  const ArmPose rest = probe.pose();
+  const Vec3 centre = 0.5 * (rest.index + rest.thumb);
+  const Vec3 u = (rest.index - rest.thumb).normalized();
+  const double half = 0.5 * (rest.index - rest.thumb).norm() - 0.01;  // sides 10 mm inside the tips
+  OperatorGains gains;
+  for (int j = kIndexFlexion; j <= kThumbFlexion; ++j) {
+    gains.stiffness[j] *= 10;
+    gains.damping[j] *= 10;
+  }
+  HandTarget squeeze{centre + (half - 0.015) * u, centre - (half - 0.040) * u, rest.wrist};
+  squeeze.holdOrientation = holdOrientation;
+  squeeze.wristRotation = rest.wristRotation;
+  SimulatedMasterArm arm(SimulatedArmOptions{}, [squeeze](double) { return squeeze; }, gains);
+  const double dt = 0.0005, k = 2000;
+  double maxTurn = 0;
+  DeviceSample s;
+  for (int i = 0; i < static_cast<int>(seconds / dt); ++i) {
+    arm.read(s);
+    DeviceCommand c;
+    const double penI = half - (s.hand.index - centre).dot(u), penT = half + (s.hand.thumb - centre).dot(u);
+    if (penI < 0) c.f_index = -k * penI * u;  // pushed back outward (+u)
+    if (penT < 0) c.f_thumb = k * penT * u;   // pushed back outward (-u)
+    arm.write(c);
+    arm.advance(dt);
+    const Mat3 R = arm.pose().wristRotation;
+    maxTurn = std::max(maxTurn, Eigen::AngleAxisd(R * rest.wristRotation.transpose()).angle());
+  }
+  return maxTurn;
+}
+}  // namespace
+
+// A human keeps the hand's orientation while squeezing: with holdOrientation the operator's
+// least squares has the wrist's angular rows too and the hand stays level; without them the
+// orientation is a null space of the position task and the squeezing fingers turn the hand.
+TEST(SimulatedMasterArm, OperatorHoldsTheWristOrientationWhileSqueezing) {
+  const double held = squeezeTurn(true), free = squeezeTurn(false);
+  std::printf("wrist turn while squeezing: %.1f deg held, %.1f deg free\n", held * 180 / M_PI, free * 180 / M_PI);
+  EXPECT_LT(held, 3.0 * M_PI / 180);
+  EXPECT_GT(free, 2 * held);
+}
+
+// keyframePath interpolates the orientation between two keys that hold one, and an operator
+// holding the orientation allocates nothing per step either.
+TEST(SimulatedMasterArm, KeyframesInterpolateTheWristOrientation) {
+  const ArmPose rest = SimulatedMasterArm().pose();
+  HandTarget a{rest.index, rest.thumb, rest.wrist}, b = a;
+  a.holdOrientation = b.holdOrientation = true;
+  a.wristRotation = rest.wristRotation;
+  b.wristRotation = Eigen::AngleAxisd(0.4, Vec3::UnitZ()).toRotationMatrix() * rest.wristRotation;
+  const HandPath path = keyframePath({{0, a}, {1, b}});
+  const HandTarget mid = path(0.5);
+  EXPECT_TRUE(mid.holdOrientation);
+  EXPECT_NEAR(Eigen::AngleAxisd(mid.wristRotation * a.wristRotation.transpose()).angle(), 0.2, 1e-9);
+  EXPECT_NEAR(Eigen::AngleAxisd(path(2).wristRotation * b.wristRotation.transpose()).angle(), 0, 1e-9);
+  HandTarget c{rest.index, rest.thumb, rest.wrist};  // aggregate initialization: no orientation
+  EXPECT_FALSE(c.holdOrientation);
+  EXPECT_FALSE(keyframePath({{0, c}, {1, c}})(0.5).holdOrientation);
+
+  SimulatedMasterArm device({}, path);
+  DeviceSample sample;
+  const long before = hg::test::allocations();
+  for (int i = 0; i < 20; ++i) {
+    device.read(sample);
+    device.write(DeviceCommand{});
+    device.advance(0.0005);
+  }
+  EXPECT_EQ(hg::test::allocations() - before, 0);
+}

@@ -89,10 +89,15 @@ bool ArmInputDevice::read(device::DeviceSample& sample) noexcept {
     target_.index = back * (entry.target.index - origin_);
     target_.thumb = back * (entry.target.thumb - origin_);
     target_.wrist = back * (entry.target.wrist - origin_);
+    fedHold_ = entry.target.holdOrientation && entry.target.wristRotation.allFinite();
+    if (fedHold_) fedRotation_ = back * entry.target.wristRotation;
     targetSet_s_ = entry.setTime_s;
   }
+  target_.holdOrientation = gripHold_ || fedHold_;
+  target_.wristRotation = gripHold_ ? heldRotation_ : fedRotation_;
   // The arm moves on whether or not the front end speaks (it holds the last target).
   const bool fresh = advancing_->read(sample);
+  armWrist_ = sample.hand.wristRotation;  // arm frame
   sample.hand.index = yaw_ * sample.hand.index + origin_;
   sample.hand.thumb = yaw_ * sample.hand.thumb + origin_;
   sample.hand.wrist = yaw_ * sample.hand.wrist + origin_;
@@ -110,6 +115,12 @@ void ArmInputDevice::write(const device::DeviceCommand& command) noexcept {
   turned.f_wrist = back * command.f_wrist;
   turned.m_wrist = back * command.m_wrist;
   advancing_->write(turned);
+  // Holding a part, the operator keeps the hand's orientation from the grasp's start.
+  const bool grasping = std::isfinite(command.f_grasp) && command.f_grasp > 0;
+  if (grasping && !gripHold_) heldRotation_ = armWrist_;
+  gripHold_ = grasping;
+  target_.holdOrientation = gripHold_ || fedHold_;
+  target_.wristRotation = gripHold_ ? heldRotation_ : fedRotation_;
   const double f = std::max({command.f_index.norm(), command.f_thumb.norm(), command.f_wrist.norm()});
   lastForce_.store(f, std::memory_order_release);
 }

@@ -18,6 +18,16 @@
 // tips) lands on `restGripCentre` and the resting grip axis (horizontal, thumb -> index)
 // along `gripAxis` (a horizontal direction; zero: the arm's own). Targets, fingertips and
 // forces are converted between the two frames here. The hand opens to about 10 cm.
+//
+// Orientation: while the grasp holds a part (the last command's f_grasp > 0) the operator
+// keeps the hand's orientation, the one the arm's wrist had when the grasp began (as a
+// human does; device::HandTarget::holdOrientation). Otherwise the orientation is left free
+// unless the target holds one of its own. With only the fingertip and wrist positions the
+// orientation is a null space that the squeezed fingers (targets deep inside the part) turn,
+// and with it the grasp frame's h2 (eq 17): the carried block turned ~90 deg about the grip
+// axis. A fixed orientation from the start (the resting hand pitched to level the
+// fingertips) fought the open fingertip targets: the fingertips sat ~10 mm low and the
+// index slid under the block while pinching.
 #include <atomic>
 #include <chrono>
 #include <memory>
@@ -47,7 +57,8 @@ class ArmInputDevice final : public device::Device {
   bool read(device::DeviceSample& sample) noexcept override;
   void write(const device::DeviceCommand& command) noexcept override;
 
-  // One writer thread at a time: where the operator means the hand to be (absolute frame, m).
+  // One writer thread at a time: where the operator means the hand to be (absolute frame, m;
+  // with holdOrientation, wristRotation: wrist frame -> absolute).
   void setTarget(const device::HandTarget& target) noexcept;
   void setSilent(bool silent) noexcept { silent_.store(silent, std::memory_order_release); }
 
@@ -78,6 +89,11 @@ class ArmInputDevice final : public device::Device {
   // Servo thread only: the target the operator pulls to, ARM frame (from latest_ in read()).
   device::HandTarget target_;
   double targetSet_s_ = -1;  // < 0: never set
+  bool fedHold_ = false;               // the target set holds an orientation: fedRotation_ (arm frame)
+  Mat3 fedRotation_ = Mat3::Identity();
+  bool gripHold_ = false;              // grasping: the operator holds heldRotation_ (arm frame)
+  Mat3 heldRotation_ = Mat3::Identity();
+  Mat3 armWrist_ = Mat3::Identity();   // the arm's wrist orientation at the last read (arm frame)
   std::shared_ptr<device::SimulatedMasterArm> arm_;
   std::unique_ptr<servo::AdvancingArmDevice> advancing_;
   std::atomic<bool> silent_{false};

@@ -118,3 +118,41 @@ TEST(ArmInputDevice, ReadAndWriteAllocateNothing) {
   const long allocated = test::allocations() - before;
   EXPECT_EQ(allocated, 0);
 }
+
+namespace {
+// Feeds a pinched target (fingertips 5 mm apart at the resting grip centre) while writing a
+// grasp command (grip force f_grasp, eq 25: it holds the fingers apart as a part would).
+// Returns the largest turn of the arm's wrist from where it was after the first 0.2 s (deg).
+double squeezeTurn_deg(double f_grasp, double seconds) {
+  freecad::ArmInputDevice arm(kRest);
+  const device::ArmPose r = arm.restPose();
+  const Vec3 c = 0.5 * (r.index + r.thumb), u = arm.gripAxis();
+  const device::HandTarget pinched{c + 0.0025 * u, c - 0.0025 * u, r.wrist};
+  device::DeviceCommand grasp;
+  grasp.f_grasp = f_grasp;
+  device::DeviceSample s;
+  drive(arm, shifted(r, Vec3::Zero()), 0.2);
+  arm.read(s);
+  const Mat3 start = s.hand.wristRotation;
+  double turn = 0;
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  for (int i = 0; std::chrono::steady_clock::now() < end; ++i) {
+    if (i % 10 == 0) arm.setTarget(pinched);
+    arm.read(s);
+    arm.write(grasp);
+    turn = std::max(turn, Eigen::AngleAxisd(s.hand.wristRotation * start.transpose()).angle());
+    std::this_thread::sleep_for(1ms);
+  }
+  return turn * 180 / M_PI;
+}
+}  // namespace
+
+// Holding a part (the command carries a grip force) the operator keeps the hand's
+// orientation from the grasp's start; without a grasp it is free and the squeezing
+// fingers turn the hand.
+TEST(ArmInputDevice, HoldsTheHandsOrientationWhileGrasping) {
+  const double held = squeezeTurn_deg(5.0, 1.0), free = squeezeTurn_deg(0.0, 1.0);
+  std::printf("arm device: wrist turned %.1f deg grasping, %.1f deg not grasping\n", held, free);
+  EXPECT_LT(held, 5.0);
+  EXPECT_GT(free, 2 * held);
+}

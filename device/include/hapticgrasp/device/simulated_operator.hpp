@@ -2,10 +2,13 @@
 // A simulated master arm as a Device, and the simulated operator who moves it.
 //
 // SimulatedOperator: an intended hand path (index, thumb and wrist positions as a function
-// of time, absolute frame) and a human-like joint-space mass-spring-damper that pulls the
-// arm towards it. Each step the Cartesian error of the three points (each clamped to
-// maxReach_m, so the operator's push is bounded) is turned into a joint step by damped
-// least squares on the stacked 9x10 Jacobian [J_i; J_t; J_w(0:3)],
+// of time, absolute frame; optionally the wrist's orientation too) and a human-like
+// joint-space mass-spring-damper that pulls the arm towards it. Each step the Cartesian
+// error of the three points (each clamped to maxReach_m, so the operator's push is bounded)
+// is turned into a joint step by damped least squares on the stacked 9x10 Jacobian
+// [J_i; J_t; J_w(0:3)], or, when the target holds the orientation, 12x10 with the wrist's
+// angular rows w J_w(3:6) and the rotation error w r (r the rotation vector of
+// R_goal R^T, w = orientationWeight_m),
 //   dtheta = J^T (J J^T + lambda^2 I)^-1 e,
 // and the operator's joint torque is tau_op = K (.) dtheta - B (.) thetaDot.
 //
@@ -31,11 +34,16 @@
 
 namespace hg::device {
 
-// Where the operator means the hand to be, absolute frame.
+// Where the operator means the hand to be, absolute frame. With holdOrientation the
+// operator also keeps the wrist (hand) frame at wristRotation (wrist frame -> absolute, as
+// ArmPose::wristRotation); without it the hand's orientation is left free (the position
+// task has a null space there, and squeezed fingers turn the hand).
 struct HandTarget {
   Vec3 index = Vec3::Zero();
   Vec3 thumb = Vec3::Zero();
   Vec3 wrist = Vec3::Zero();
+  bool holdOrientation = false;
+  Mat3 wristRotation = Mat3::Identity();
 };
 using HandPath = std::function<HandTarget(double t)>;
 
@@ -44,7 +52,8 @@ struct HandKeyframe {
   HandTarget target;
 };
 // Smooth (C1, smoothstep) interpolation between keyframes sorted by time; holds the first
-// before and the last after. Throws std::invalid_argument on an empty or unsorted list.
+// before and the last after. The orientation is interpolated (along the shortest rotation)
+// when both keys hold one; when only one does, the segment holds that key's orientation. Throws std::invalid_argument on an empty or unsorted list.
 HandPath keyframePath(std::vector<HandKeyframe> keyframes);
 
 struct OperatorGains {
@@ -55,6 +64,10 @@ struct OperatorGains {
   ArmVector inertia = (ArmVector() << 0.3, 0.3, 0.05, 0.1, 0.01, 0.01, 0.01, 2e-5, 2e-5, 1e-5).finished();
   double dlsLambda = 0.05;  // damping of the least squares (m)
   double maxReach_m = 0.05;  // Cartesian error the operator acts on, per point
+  // With HandTarget::holdOrientation: an angular error of 1 rad counts like this many metres
+  // of position error (the angular rows of the least squares are scaled by it); the weighted
+  // error is clamped to maxReach_m too (so at most maxReach_m / orientationWeight_m rad).
+  double orientationWeight_m = 0.2;
 };
 
 class SimulatedOperator {
