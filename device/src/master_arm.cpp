@@ -80,10 +80,25 @@ std::shared_ptr<const ArmModel> ArmModel::build(const std::string& xml, const st
   };
   chain("index_tip", m->index_);
   chain("thumb_tip", m->thumb_);
-  chain("wrist", m->wrist_);
+  chain("hand_reference", m->wrist_);  // x_w: see the URDF
   m->indexCols_ = columnsOf(m->index_, "index_tip");
   m->thumbCols_ = columnsOf(m->thumb_, "thumb_tip");
-  m->wristCols_ = columnsOf(m->wrist_, "wrist");
+  m->wristCols_ = columnsOf(m->wrist_, "hand_reference");
+  {
+    // Both frames hang off "hand" through fixed joints only.
+    KDL::Chain toCentre, toReference;
+    if (!tree.getChain("hand", "wrist", toCentre) || !tree.getChain("hand", "hand_reference", toReference))
+      throw std::runtime_error("master arm: " + what + " has no 'hand', 'wrist' or 'hand_reference' frame");
+    const auto pose = [&](const KDL::Chain& c) {
+      if (c.getNrOfJoints() != 0)
+        throw std::runtime_error("master arm: " + what + ": 'wrist' and 'hand_reference' must be fixed to 'hand'");
+      KDL::Frame f = KDL::Frame::Identity();
+      for (unsigned i = 0; i < c.getNrOfSegments(); ++i) f = f * c.getSegment(i).pose(0.0);
+      return f;
+    };
+    const KDL::Frame rel = pose(toCentre).Inverse() * pose(toReference);
+    m->wristCentreOffset_ = Vec3(rel.p.x(), rel.p.y(), rel.p.z());
+  }
   // The combination of gravity and mass (see the header) needs the wrist chain to be the
   // arm joints 0-6 and the finger chains to extend it.
   for (int k = 0; k < kArmOnlyJoints; ++k)
@@ -180,6 +195,12 @@ void MasterArm::kinematics(const ArmVector& theta, ArmKinematics& out) noexcept 
     out.thumb.col(model_->thumbColumns()[k]) = thumb_.J.data.block<3, 1>(0, k);
   for (unsigned k = 0; k < wrist_.q.rows(); ++k)
     out.wrist.col(model_->wristColumns()[k]) = wrist_.J.data.col(k);
+  // Velocity of the wrist centre c = x_w - r: v_c = v_w - omega x r = v_w + [r]_x omega.
+  const Vec3 r = out.pose.wristRotation * model_->wristCentreOffset();
+  out.wristCentreOffset = r;
+  Mat3 rx;
+  rx << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
+  out.wristCentre.noalias() = out.wrist.topRows<3>() + rx * out.wrist.bottomRows<3>();
   const Vec3 d = out.pose.index - out.pose.thumb;
   out.gripDistance = d.norm();
   if (out.gripDistance > 1e-12)

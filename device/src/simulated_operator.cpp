@@ -58,6 +58,14 @@ void SimulatedOperator::torques(double t, const ArmKinematics& kin, const ArmVec
     return;
   }
   const HandTarget goal = path_(t);
+  // The operator pulls the hand at its wrist centre c (the URDF's "wrist"), as a person
+  // does, and as it did before x_w moved behind the back of the hand: the target's x_w less
+  // the resting offset x_w - c (holding the orientation: turned to the target's) is c's target.
+  const Vec3& offset = kin.wristCentreOffset;
+  const Vec3 goalOffset = goal.holdOrientation && goal.wristRotation.allFinite()
+                              ? Vec3(goal.wristRotation * (kin.pose.wristRotation.transpose() * offset))
+                              : restWristOffset_;
+  const Vec3 wristError = (goal.wrist - goalOffset) - (kin.pose.wrist - offset);
   const double lambda2 = gains_.dlsLambda * gains_.dlsLambda;
   ArmVector step;
   if (goal.holdOrientation && goal.wristRotation.allFinite()) {
@@ -67,11 +75,11 @@ void SimulatedOperator::torques(double t, const ArmKinematics& kin, const ArmVec
     Eigen::Matrix<double, 12, 1> e;
     e << clampNorm(goal.index - kin.pose.index, gains_.maxReach_m),
         clampNorm(goal.thumb - kin.pose.thumb, gains_.maxReach_m),
-        clampNorm(goal.wrist - kin.pose.wrist, gains_.maxReach_m),
+        clampNorm(wristError, gains_.maxReach_m),
         clampNorm(w * math::rotationVector(goal.wristRotation * kin.pose.wristRotation.transpose()),
                   gains_.maxReach_m);
     Eigen::Matrix<double, 12, kArmJoints> J;
-    J << kin.index, kin.thumb, kin.wrist.topRows<3>(), w * kin.wrist.bottomRows<3>();
+    J << kin.index, kin.thumb, kin.wristCentre, w * kin.wrist.bottomRows<3>();
     Eigen::Matrix<double, 12, 12> A = J * J.transpose();
     A.diagonal().array() += lambda2;
     const Eigen::Matrix<double, 12, 1> y = A.ldlt().solve(e);
@@ -80,9 +88,9 @@ void SimulatedOperator::torques(double t, const ArmKinematics& kin, const ArmVec
     Eigen::Matrix<double, 9, 1> e;
     e << clampNorm(goal.index - kin.pose.index, gains_.maxReach_m),
         clampNorm(goal.thumb - kin.pose.thumb, gains_.maxReach_m),
-        clampNorm(goal.wrist - kin.pose.wrist, gains_.maxReach_m);
+        clampNorm(wristError, gains_.maxReach_m);
     Eigen::Matrix<double, 9, kArmJoints> J;
-    J << kin.index, kin.thumb, kin.wrist.topRows<3>();
+    J << kin.index, kin.thumb, kin.wristCentre;
     Eigen::Matrix<double, 9, 9> A = J * J.transpose();
     A.diagonal().array() += lambda2;
     const Eigen::Matrix<double, 9, 1> y = A.ldlt().solve(e);
@@ -123,6 +131,8 @@ void SimulatedMasterArm::setJoints(const ArmVector& theta, const ArmVector& thet
   thetaDot_ = thetaDot;
   fresh_ = true;
   written_ = false;
+  arm_.kinematics(theta_, kin_);
+  operator_.setRestWristOffset(kin_.wristCentreOffset);
 }
 
 ArmPose SimulatedMasterArm::pose() noexcept {

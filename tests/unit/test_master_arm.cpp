@@ -71,7 +71,10 @@ TEST(MasterArm, ForwardKinematicsZeroPose) {
   ArmPose p;
   arm.forwardKinematics(ArmVector::Zero(), p);
   // Arm hanging down: shoulder -> elbow 0.30, -> wrist 0.27, -> knuckle 0.09, -> tip 0.08.
-  expectNear(p.wrist, Vec3(0, 0, -0.57), 1e-12, "wrist");
+  // p.wrist is the grasp's wrist point x_w, the URDF's "hand_reference": 0.08 behind the back
+  // of the hand (-y, the palm faces +y) and 0.10 down from the wrist centre (0, 0, -0.57).
+  expectNear(p.wrist, Vec3(0, -0.08, -0.67), 1e-12, "wrist");
+  expectNear(model()->wristCentreOffset(), Vec3(0, -0.08, -0.10), 1e-15, "hand_reference offset");
   expectNear(p.index, Vec3(0, 0, -0.74), 1e-12, "index");
   // Thumb base 0.03 in front of and 0.03 below the wrist, then 0.04 + 0.035 down.
   expectNear(p.thumb, Vec3(0.03, 0, -0.675), 1e-12, "thumb");
@@ -84,7 +87,7 @@ TEST(MasterArm, ForwardKinematicsElbowAt90Degrees) {
   q[kElbowFlexion] = M_PI / 2;  // forearm forward (+x), about -y
   ArmPose p;
   arm.forwardKinematics(q, p);
-  expectNear(p.wrist, Vec3(0.27, 0, -0.30), 1e-12, "wrist");
+  expectNear(p.wrist, Vec3(0.37, -0.08, -0.30), 1e-12, "wrist");  // centre (0.27, 0, -0.30)
   expectNear(p.index, Vec3(0.44, 0, -0.30), 1e-12, "index");
   expectNear(p.thumb, Vec3(0.375, 0, -0.27), 1e-12, "thumb");
   EXPECT_LT((p.wristRotation - rotY(-M_PI / 2)).norm(), 1e-12);
@@ -92,7 +95,7 @@ TEST(MasterArm, ForwardKinematicsElbowAt90Degrees) {
   // Shoulder flexed 90 degrees too: upper arm forward, forearm up.
   q[kShoulderFlexion] = M_PI / 2;
   arm.forwardKinematics(q, p);
-  expectNear(p.wrist, Vec3(0.30, 0, 0.27), 1e-12, "wrist");
+  expectNear(p.wrist, Vec3(0.30, -0.08, 0.37), 1e-12, "wrist");  // centre (0.30, 0, 0.27)
   expectNear(p.index, Vec3(0.30, 0, 0.44), 1e-12, "index");
   expectNear(p.thumb, Vec3(0.27, 0, 0.375), 1e-12, "thumb");
   EXPECT_LT((p.wristRotation - rotY(-M_PI)).norm(), 1e-12);
@@ -132,7 +135,12 @@ TEST(MasterArm, JacobiansMatchFiniteDifferences) {
       EXPECT_LT((kin.wrist.col(j).head<3>() - dw).norm(), 1e-6) << "J_w linear col " << j;
       EXPECT_LT((kin.wrist.col(j).tail<3>() - omega).norm(), 1e-6) << "J_w angular col " << j;
       EXPECT_NEAR(kin.grasp(j), dg, 1e-6) << "J_g col " << j;
+      // The wrist centre c = x_w - R_w * offset (the operator's point).
+      const Vec3 off = model()->wristCentreOffset();
+      const Vec3 dc = ((pp.wrist - pp.wristRotation * off) - (pm.wrist - pm.wristRotation * off)) / (2 * h);
+      EXPECT_LT((kin.wristCentre.col(j) - dc).norm(), 1e-6) << "J_c col " << j;
     }
+    expectNear(kin.wristCentreOffset, p0.wristRotation * model()->wristCentreOffset(), 1e-15, "x_w - c");
     EXPECT_NEAR(kin.gripDistance, (p0.index - p0.thumb).norm(), 1e-15);
   }
   // The fingers move only their own tips; the thumb does not move the wrist.

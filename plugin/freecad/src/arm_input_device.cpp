@@ -31,6 +31,7 @@ ArmInputDevice::ArmInputDevice(const Vec3& restGripCentre, const Vec3& gripAxis,
   // onto restGripCentre.
   const device::ArmPose own = arm_->pose();
   target_ = {own.index, own.thumb, own.wrist};  // until the first target: hold still
+  fed_ = target_;
   Vec3 u0 = own.index - own.thumb;
   u0.z() = 0;
   Vec3 want(gripAxis.x(), gripAxis.y(), 0);
@@ -86,17 +87,33 @@ bool ArmInputDevice::read(device::DeviceSample& sample) noexcept {
   if (latest_.tryRead(entry) && entry.target.index.allFinite() && entry.target.thumb.allFinite() &&
       entry.target.wrist.allFinite()) {
     const Mat3 back = yaw_.transpose();  // absolute -> arm frame
-    target_.index = back * (entry.target.index - origin_);
-    target_.thumb = back * (entry.target.thumb - origin_);
-    target_.wrist = back * (entry.target.wrist - origin_);
+    fed_.index = back * (entry.target.index - origin_);
+    fed_.thumb = back * (entry.target.thumb - origin_);
+    fed_.wrist = back * (entry.target.wrist - origin_);
     fedHold_ = entry.target.holdOrientation && entry.target.wristRotation.allFinite();
     if (fedHold_) fedRotation_ = back * entry.target.wristRotation;
     targetSet_s_ = entry.setTime_s;
   }
   target_.holdOrientation = gripHold_ || fedHold_;
   target_.wristRotation = gripHold_ ? heldRotation_ : fedRotation_;
+  target_.index = fed_.index + aim_;
+  target_.thumb = fed_.thumb + aim_;
+  target_.wrist = fed_.wrist + aim_;
   // The arm moves on whether or not the front end speaks (it holds the last target).
   const bool fresh = advancing_->read(sample);
+  {
+    const double t = advancing_->simTime();
+    const double dt = lastSimTime_s_ < 0 ? 0.0 : std::clamp(t - lastSimTime_s_, 0.0, 0.05);
+    lastSimTime_s_ = t;
+    const double a = std::min(1.0, kAimRate_per_s * dt);
+    gripLag_ = 0.5 * (fed_.index + fed_.thumb) - 0.5 * (sample.hand.index + sample.hand.thumb);  // arm frame, before the placement below
+    if (gripHold_ && gripLag_.allFinite()) {
+      aim_ += a * (gripLag_ - gripLag0_);
+      if (aim_.norm() > kMaxAim_m) aim_ *= kMaxAim_m / aim_.norm();
+    } else {
+      aim_ -= a * aim_;
+    }
+  }
   armWrist_ = sample.hand.wristRotation;  // arm frame
   sample.hand.index = yaw_ * sample.hand.index + origin_;
   sample.hand.thumb = yaw_ * sample.hand.thumb + origin_;
@@ -117,7 +134,10 @@ void ArmInputDevice::write(const device::DeviceCommand& command) noexcept {
   advancing_->write(turned);
   // Holding a part, the operator keeps the hand's orientation from the grasp's start.
   const bool grasping = std::isfinite(command.f_grasp) && command.f_grasp > 0;
-  if (grasping && !gripHold_) heldRotation_ = armWrist_;
+  if (grasping && !gripHold_) {
+    heldRotation_ = armWrist_;
+    gripLag0_ = gripLag_;
+  }
   gripHold_ = grasping;
   target_.holdOrientation = gripHold_ || fedHold_;
   target_.wristRotation = gripHold_ ? heldRotation_ : fedRotation_;

@@ -94,6 +94,18 @@ class ArmInputDevice final : public device::Device {
   bool gripHold_ = false;              // grasping: the operator holds heldRotation_ (arm frame)
   Mat3 heldRotation_ = Mat3::Identity();
   Mat3 armWrist_ = Mat3::Identity();   // the arm's wrist orientation at the last read (arm frame)
+  // Holding a part the operator makes up for the arm's give under the part's displayed
+  // weight, as a person watching the part does: the fed target (fed_, arm frame) is shifted
+  // by aim_, which integrates, at kAimRate_per_s while grasping (at most kMaxAim_m), how far
+  // the grip centre has fallen behind its fed target since the grasp began (gripLag0_: the
+  // lag then, the squeeze's own), and decays at the same rate otherwise.
+  Vec3 gripLag_ = Vec3::Zero();   // fed grip centre - the arm's, at the last read (arm frame)
+  Vec3 gripLag0_ = Vec3::Zero();
+  static constexpr double kAimRate_per_s = 4.0;
+  static constexpr double kMaxAim_m = 0.04;
+  device::HandTarget fed_;
+  Vec3 aim_ = Vec3::Zero();
+  double lastSimTime_s_ = -1;
   std::shared_ptr<device::SimulatedMasterArm> arm_;
   std::unique_ptr<servo::AdvancingArmDevice> advancing_;
   std::atomic<bool> silent_{false};

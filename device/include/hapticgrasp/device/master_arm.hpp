@@ -64,7 +64,10 @@ using ArmJacobian1 = Eigen::Matrix<double, 1, kArmJoints>;
 struct ArmPose {
   Vec3 index = Vec3::Zero();  // x_i, index fingertip
   Vec3 thumb = Vec3::Zero();  // x_t, thumb tip
-  Vec3 wrist = Vec3::Zero();  // x_w, wrist centre
+  // x_w, the grasp's wrist point (eq 17): the URDF's "hand_reference" frame behind the back
+  // of the hand, well off the index-thumb line (the wrist centre lies nearly on that line,
+  // which made eq 17's h2 magnify the fingers' yaw ~5x). Hand orientation.
+  Vec3 wrist = Vec3::Zero();
   Mat3 wristRotation = Mat3::Identity();  // wrist (hand) frame -> base
 };
 
@@ -76,6 +79,10 @@ struct ArmKinematics {
   // J_w (eq 26): rows 0-2 d x_w / d theta, rows 3-5 the wrist's angular velocity per unit
   // joint rate (so [f_w; m_w] with m_w about the wrist centre maps by J_w^T).
   ArmJacobian6 wrist = ArmJacobian6::Zero();
+  // d c / d theta of the wrist centre c = x_w - R_w * ArmModel::wristCentreOffset() (the
+  // URDF's "wrist" frame): the simulated operator holds the hand there, as a person does.
+  ArmJacobian3 wristCentre = ArmJacobian3::Zero();
+  Vec3 wristCentreOffset = Vec3::Zero();  // x_w - c, base frame
   // J_g (eq 27) = d|x_i - x_t| / d theta = u^T (J_i - J_t), u = (x_i - x_t)/|x_i - x_t|;
   // zero when the fingertips coincide (the derivative does not exist there).
   ArmJacobian1 grasp = ArmJacobian1::Zero();
@@ -106,6 +113,8 @@ class ArmModel {
   const ArmVector& velocityLimits() const { return velocity_; }  // rad/s
   double totalMass() const { return totalMass_; }
   Vec3 gravity() const { return gravity_; }  // m/s^2, base frame
+  // x_w ("hand_reference") minus the wrist centre ("wrist"), in the hand frame.
+  Vec3 wristCentreOffset() const { return wristCentreOffset_; }
 
   const KDL::Chain& indexChain() const { return index_; }
   const KDL::Chain& thumbChain() const { return thumb_; }
@@ -127,6 +136,7 @@ class ArmModel {
   ArmVector lower_, upper_, effort_, velocity_;
   double totalMass_ = 0;
   Vec3 gravity_{0, 0, -9.81};
+  Vec3 wristCentreOffset_ = Vec3::Zero();
 };
 
 // Per-thread working state. Every call below allocates nothing and is noexcept.

@@ -80,10 +80,15 @@ class SimulatedOperator {
   HandTarget target(double t) const { return path_ ? path_(t) : HandTarget{}; }
   bool active() const { return static_cast<bool>(path_); }
   const OperatorGains& gains() const { return gains_; }
+  // x_w - wrist centre at the arm's resting pose (base frame). The operator pulls the hand
+  // at its wrist centre; a target's x_w less this offset (or, holding the orientation, less
+  // the offset turned to the target's orientation) is the centre's target.
+  void setRestWristOffset(const Vec3& offset) noexcept { restWristOffset_ = offset; }
 
  private:
   HandPath path_;
   OperatorGains gains_;
+  Vec3 restWristOffset_ = Vec3::Zero();
 };
 
 struct SimulatedArmOptions {
