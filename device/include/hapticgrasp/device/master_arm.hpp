@@ -3,7 +3,8 @@
 // paper (eqs 8, 10-11, 25-27), on orocos KDL chains loaded from a URDF with kdl_parser.
 //
 // Model/data split. ArmModel is immutable once built (the URDF, the three KDL chains
-// base->index_tip, base->thumb_tip, base->wrist, joint limits); share it between threads.
+// base->index_tip, base->thumb_tip, base->hand_reference (x_w, off the finger line; the
+// wrist centre "wrist" is a fixed offset from it), joint limits); share it between threads.
 // MasterArm is the per-thread working state: the KDL solvers (which keep scratch buffers)
 // and preallocated JntArray/Jacobian/JntSpaceInertiaMatrix. Its per-tick calls allocate
 // nothing and do not throw. A MasterArm keeps its model alive (shared_ptr).
@@ -18,8 +19,9 @@
 // Gravity and the mass matrix over the whole tree. The three chains share the arm and the
 // hand segments (joints 0-6 and the hand's inertia), so per-chain results are combined
 // without double counting: for the arm joints, tree = index chain + thumb chain - wrist
-// chain (the wrist chain holds exactly the shared segments: arm links and hand); the index
-// joint is taken from the index chain, the thumb joints from the thumb chain. This is exact
+// chain (the wrist chain holds exactly the shared segments: arm links and hand, then the
+// massless fixed hand_reference); the index joint is taken from the index chain, the thumb
+// joints from the thumb chain. This is exact
 // because gravity torques, mass matrices and Coriolis torques are sums of per-body terms.
 #include <array>
 #include <cstdint>
