@@ -714,6 +714,11 @@ class MouseHandSession(unittest.TestCase):
     def drive(self, s, hand, steps, period=0.02):
         """steps: [(duration_s, action)], action(hand, dt) called every tick; the hand is
         fed every tick and the document ticked. Returns the states seen."""
+        return self.drive_until(s, hand, steps, None, period)[0]
+
+    def drive_until(self, s, hand, steps, done, period=0.02):
+        """drive(), stopping (and no longer feeding the hand) as soon as done() is true
+        (done None: never). Returns (states, done reached)."""
         states = []
         for duration, action in steps:
             end = time.monotonic() + duration
@@ -727,8 +732,10 @@ class MouseHandSession(unittest.TestCase):
                 state = s.tick()["state"]
                 if not states or states[-1] != state:
                     states.append(state)
+                if done is not None and done():
+                    return states, True
                 time.sleep(period)
-        return states
+        return states, False
 
     def mouse_session(self):
         from HapticGrasp.mouse_hand import MouseHand
@@ -846,6 +853,7 @@ class SimulatedArmSession(unittest.TestCase):
     setUp = HapticGraspDocument.setUp
     tearDown = HapticGraspDocument.tearDown
     drive = MouseHandSession.drive
+    drive_until = MouseHandSession.drive_until
     move = staticmethod(MouseHandSession.move)
 
     GRASP_BELOW_TOP_MM = 25.0   # the grasp height under the block's top (the core's bench)
@@ -872,27 +880,6 @@ class SimulatedArmSession(unittest.TestCase):
         hand.pinch(True)
         states += self.drive(s, hand, [(1.0, None)])
         return states
-
-    def drive_until(self, s, hand, steps, done):
-        """MouseHandSession.drive, stopping (and no longer feeding the target) as soon as
-        done() is true. Returns (states, done reached)."""
-        states = []
-        for duration, action in steps:
-            end = time.monotonic() + duration
-            last = time.monotonic()
-            while time.monotonic() < end and s.running:
-                now = time.monotonic()
-                dt, last = now - last, now
-                if action:
-                    action(hand, dt)
-                s.set_hand(*hand.tick(dt))
-                state = s.tick()["state"]
-                if not states or states[-1] != state:
-                    states.append(state)
-                if done():
-                    return states, True
-                time.sleep(0.02)
-        return states, False
 
     def test_the_arm_grasps_the_block_with_its_own_fingertips_and_lifts_it(self):
         before = App.Placement(self.block.Placement)

@@ -57,15 +57,7 @@ class HapticGraspGui(unittest.TestCase):
         from PySide2 import QtWidgets
         Gui.activateWorkbench("HapticGraspWorkbench")
         self.assertIsNotNone(Gui.Command.get("HapticGrasp_Start"))
-        doc = App.newDocument("HapticGraspGui")
-        doc.UndoMode = 1
-        cylinder = doc.addObject("Part::Feature", "Cylinder")
-        shape = Part.Shape()
-        shape.importBrep(os.path.join(RESOURCES, "parts", "cylinder.brep"))
-        cylinder.Shape = shape
-        cylinder.Placement = App.Placement(App.Vector(400, 0, 300), App.Rotation(App.Vector(1, 0, 0), -90))
-        doc.recompute()
-        doc.clearUndos()
+        doc, cylinder = self._cylinder_doc("HapticGraspGui")
         before = App.Placement(cylinder.Placement)
         Gui.Selection.clearSelection()
         Gui.Selection.addSelection(cylinder)
