@@ -24,6 +24,12 @@ struct Penetration {
   Vec3 normal = Vec3::Zero();  // outward unit normal at the foot
   Feature feature = Feature::None;
   int featureIndex = 0;        // 1-based index into the part's faces/edges/vertices; 0 = none
+  // The exact back end's accounting: how many patches of faces or pieces of edges this
+  // answer needed the slower exhaustive search for (a point farther from a curved patch
+  // than its curvature lets Newton guarantee the foot), and whether even that search
+  // left some possibility open (false: the answer may be off; never silently).
+  std::uint8_t fallbacks = 0;
+  bool certain = true;
   double distance() const { return depth < 0 ? -depth : depth; }
 };
 
@@ -31,7 +37,18 @@ struct Penetration {
 struct WarmStart {
   Feature feature = Feature::None;
   int index = 0;
+  int piece = -1;       // the patch of a face or piece of an edge searched; -1: the whole
   double u = 0, v = 0;  // face: u, v; edge: u
+};
+
+// The exact back end's last evaluation of a freeform face near a fingertip's foot: the
+// surface's point and derivatives at (u, v), so that the next tick's first Newton step
+// costs no evaluation.
+struct SurfaceJetState {
+  int face = 0;    // 1-based; 0 = none
+  int piece = -1;  // its patch
+  double u = 0, v = 0;
+  double values[18] = {};  // point, S_u, S_v, S_uu, S_vv, S_uv
 };
 
 // Small mutable state of one fingertip, kept by the caller from tick to tick: the warm
@@ -39,11 +56,13 @@ struct WarmStart {
 struct QueryState {
   Feature feature = Feature::None;  // closest feature last tick
   int index = 0;
+  int piece = -1;                   // its patch or piece
   double u = 0, v = 0;              // its parameters (face: u, v; edge: u)
   // The other features examined last tick (a part's neighbours of the foot are examined
   // every tick; on freeform faces a cold start costs 10x a warm one).
   static constexpr int kNeighbours = 6;
   WarmStart neighbours[kNeighbours];
+  SurfaceJetState jet;
   Feature tracked = Feature::None;  // feature held while in contact (hysteresis)
   int trackedIndex = 0;
   double tu = 0, tv = 0;

@@ -3,18 +3,42 @@
 #include <BRepAdaptor_Curve.hxx>
 #include <BRep_Tool.hxx>
 #include <ElCLib.hxx>
+#include <Geom_BSplineCurve.hxx>
+#include <Geom_OffsetCurve.hxx>
+#include <Geom_TrimmedCurve.hxx>
 
 #include <algorithm>
 #include <cmath>
 
-namespace hg::geometry::exact {
+#include "curve_search.hpp"
 
-EdgeModel::EdgeModel(const TopoDS_Edge& edge, const std::vector<std::pair<TopoDS_Face, int>>& faces) {
+namespace hg::geometry::exact {
+namespace {
+
+// Where the curve's derivatives may jump: pieces never straddle these.
+std::vector<double> knotBreaks(Handle(Geom_Curve) c) {
+  for (;;) {
+    if (auto t = Handle(Geom_TrimmedCurve)::DownCast(c); !t.IsNull()) c = t->BasisCurve();
+    else if (auto o = Handle(Geom_OffsetCurve)::DownCast(c); !o.IsNull()) c = o->BasisCurve();
+    else break;
+  }
+  std::vector<double> k;
+  if (auto bs = Handle(Geom_BSplineCurve)::DownCast(c); !bs.IsNull())
+    for (int i = 1; i <= bs->NbKnots(); ++i) k.push_back(bs->Knot(i));
+  return k;
+}
+
+}  // namespace
+
+EdgeModel::EdgeModel(const TopoDS_Edge& edge, const std::vector<std::pair<TopoDS_Face, int>>& faces,
+                     double characteristicLength) {
   if (BRep_Tool::Degenerated(edge)) return;
   for (const auto& [face, index] : faces)
     if (BRep_Tool::IsClosed(edge, face)) return;  // a seam: its face covers it
   curve_ = BRep_Tool::Curve(edge, t0_, t1_);
-  if (curve_.IsNull() || faces.empty()) return;
+  if (curve_.IsNull() || faces.empty() || !(t1_ > t0_)) return;
+  tolerance_ = std::max(BRep_Tool::Tolerance(edge), 1e-12 * characteristicLength);
+  accuracy_ = 1e-9 * characteristicLength;
   BRepAdaptor_Curve adaptor(edge);
   type_ = adaptor.GetType();
   if (type_ == GeomAbs_Line) line_ = adaptor.Line();
@@ -31,62 +55,24 @@ EdgeModel::EdgeModel(const TopoDS_Edge& edge, const std::vector<std::pair<TopoDS
     side.pcurve = BRep_Tool::CurveOnSurface(edge, face, f, l);
   }
   if (type_ != GeomAbs_Line && type_ != GeomAbs_Circle) {
-    const int n = 32;
-    for (int i = 0; i <= n; ++i) {
-      const double t = t0_ + (t1_ - t0_) * i / n;
-      seeds_.emplace_back(t, curve_->Value(t));
-    }
+    PieceOptions options;
+    options.tolerance = tolerance_;
+    pieces_ = buildCurvePieces([this](double t, gp_Pnt& p, gp_Vec& d1, gp_Vec& dd2) { d2(t, p, d1, dd2); }, t0_, t1_,
+                               knotBreaks(curve_), options);
   }
   usable_ = true;
 }
 
-// Brings t into the edge's range: wraps a whole periodic edge, otherwise leaves it be.
+// Brings t into the edge's range: wraps a whole closed edge, otherwise leaves it be.
 double EdgeModel::fit(double t) const noexcept {
   if (period_ > 0) t = t0_ + std::fmod(std::fmod(t - t0_, period_) + period_, period_);
   return t;
 }
 
-// Minimises |C(t) - x|^2 by Newton (Gauss-Newton where the curvature term would make it
-// climb). Convergence is judged on the step actually taken: at a clamped end the proposed
-// step never shrinks, and the end belongs to a vertex anyway.
-bool EdgeModel::newton(const gp_Pnt& x, double& t) const noexcept {
-  gp_Pnt c;
-  gp_Vec d1, d2;
-  int clamped = 0;
-  for (int iteration = 0; iteration < 30; ++iteration) {
-    curve_->D2(t, c, d1, d2);
-    const gp_Vec r(x, c);
-    const double g = r.Dot(d1), h = d1.Dot(d1) + r.Dot(d2);
-    double dt = -g / (h > 0 ? h : d1.Dot(d1));
-    if (!std::isfinite(dt)) return false;
-    dt = std::clamp(dt, -0.25 * (t1_ - t0_), 0.25 * (t1_ - t0_));
-    const double next = std::clamp(fit(t + dt), t0_, t1_);
-    if (period_ == 0 && next != fit(t + dt) && ++clamped == 2) return false;
-    const double moved = std::abs(next - t);
-    t = next;
-    // Quadratic convergence: once a step moves the point by less than this, the next
-    // would be below rounding (a stricter test only burns iterations).
-    if (moved * std::sqrt(d1.SquareMagnitude()) < 1e-12 * (1 + c.XYZ().Modulus())) break;
-  }
-  return true;
-}
-
-bool EdgeModel::project(const gp_Pnt& x, bool warm, double& t, double bound, EdgeFoot& foot) const noexcept {
-  if (type_ == GeomAbs_Line) {
-    t = ElCLib::Parameter(line_, x);
-  } else if (type_ == GeomAbs_Circle) {
-    // ElCLib answers in [0, 2pi); an arc's range may start anywhere (and cross 2pi).
-    const double twoPi = 2 * M_PI;
-    t = t0_ + std::fmod(std::fmod(ElCLib::Parameter(circle_, x) - t0_, twoPi) + twoPi, twoPi);
-  } else {
-    if (!warm) {
-      double best = INFINITY;
-      for (const auto& [ts, p] : seeds_)
-        if (const double d = p.SquareDistance(x); d < best) best = d, t = ts;
-    }
-    if (!newton(x, t)) return false;
-  }
-  // The ends belong to the vertices (a whole periodic edge has none).
+// An interior point of the edge closer than `bound`: the ends belong to the vertices (a
+// whole periodic edge has none).
+bool EdgeModel::accept(const gp_Pnt& x, double t, double bound, EdgeFoot& foot) const noexcept {
+  t = fit(t);
   const double margin = 1e-12 * std::max(1.0, t1_ - t0_);
   if (period_ == 0 && (t <= t0_ + margin || t >= t1_ - margin)) return false;
   if (t < t0_ || t > t1_) return false;
@@ -95,6 +81,57 @@ bool EdgeModel::project(const gp_Pnt& x, bool warm, double& t, double bound, Edg
   if (d >= bound) return false;
   foot = {t, p, d};
   return true;
+}
+
+EdgeSearch EdgeModel::projectPiece(const gp_Pnt& x, int index, bool warm, double& t, double bound,
+                                   EdgeFoot& foot) const noexcept {
+  const CurvePiece& piece = pieces_[index];
+  const double margin = 0.1 * (piece.t1 - piece.t0);
+  const double a = period_ > 0 ? piece.t0 - margin : std::max(t0_, piece.t0 - margin);
+  const double b = period_ > 0 ? piece.t1 + margin : std::min(t1_, piece.t1 + margin);
+  if (warm && period_ > 0) t = a + std::fmod(std::fmod(t - a, period_) + period_, period_);
+  if (!warm || t < a || t > b) {
+    double best = INFINITY;
+    for (int k = 0; k < CurvePiece::kSeeds; ++k)
+      if (const double d = piece.seedP[k].SquareDistance(x); d < best) best = d, t = piece.seedT[k];
+  }
+  const auto curve = [this](double s, gp_Pnt& p, gp_Vec& d1, gp_Vec& dd2) { d2(s, p, d1, dd2); };
+  const SearchEnd end = newtonOnInterval(curve, x, a, b, t, tolerance_);
+  EdgeSearch search;
+  // Clear of the piece's focal points the distance is strictly convex along it: Newton
+  // went to its one minimum, or out of the piece.
+  if (end == SearchEnd::Interior) search.found = accept(x, t, bound, foot);
+  search.certain = end != SearchEnd::Failed && piece.clearOfFocus(search.found ? foot.distance : bound);
+  t = fit(t);
+  return search;
+}
+
+EdgeSearch EdgeModel::project(const gp_Pnt& x, int piece, bool warm, double& t, double bound,
+                              EdgeFoot& foot) const noexcept {
+  if (piece >= 0) return projectPiece(x, piece, warm, t, bound, foot);
+  if (type_ == GeomAbs_Line) {
+    t = ElCLib::Parameter(line_, x);
+  } else {
+    // ElCLib answers in [0, 2pi); an arc's range may start anywhere (and cross 2pi).
+    const double twoPi = 2 * M_PI;
+    t = t0_ + std::fmod(std::fmod(ElCLib::Parameter(circle_, x) - t0_, twoPi) + twoPi, twoPi);
+  }
+  // A line's or circle's distance has one minimum: the edge's foot or one of its ends.
+  EdgeSearch search;
+  search.found = accept(x, t, bound, foot);
+  return search;
+}
+
+EdgeSearch EdgeModel::exhaust(const gp_Pnt& x, int index, double bound, EdgeFoot& foot) const noexcept {
+  const auto curve = [this](double s, gp_Pnt& p, gp_Vec& d1, gp_Vec& dd2) { d2(s, p, d1, dd2); };
+  EdgeFoot candidate;
+  const CurveBranchResult r = branchAndBound1D(
+      curve, x, pieces_[index], bound, [&](double t) { return accept(x, t, INFINITY, candidate); }, accuracy_,
+      tolerance_);
+  EdgeSearch search;
+  search.certain = r.certain;
+  search.found = r.found && accept(x, r.t, bound, foot);
+  return search;
 }
 
 gp_Vec EdgeModel::pseudoNormal(double t, const std::vector<FaceModel>& faces) const noexcept {

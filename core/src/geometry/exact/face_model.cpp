@@ -2,16 +2,25 @@
 
 #include <BRepTools.hxx>
 #include <BRep_Tool.hxx>
-#include <ElSLib.hxx>
+#include <GeomAdaptor_Surface.hxx>
+#include <GeomConvert.hxx>
+#include <Geom_BSplineCurve.hxx>
+#include <Geom_BSplineSurface.hxx>
+#include <Geom_BezierSurface.hxx>
+#include <Geom_OffsetSurface.hxx>
+#include <Geom_RectangularTrimmedSurface.hxx>
+#include <Geom_SurfaceOfLinearExtrusion.hxx>
+#include <Geom_SurfaceOfRevolution.hxx>
+#include <Geom_TrimmedCurve.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Edge.hxx>
-#include <GeomAdaptor_Surface.hxx>
-#include <Geom_BSplineSurface.hxx>
 #include <gp_Pnt2d.hxx>
 
 #include <algorithm>
 #include <cmath>
+
+#include "patch_search.hpp"
 
 namespace hg::geometry::exact {
 namespace {
@@ -22,17 +31,55 @@ double wrap(double t, double lo, double period) {
   return t - k * period;
 }
 
+// The surface without rectangular trims (the face's own trim does the trimming).
+Handle(Geom_Surface) untrimmed(Handle(Geom_Surface) s) {
+  while (auto t = Handle(Geom_RectangularTrimmedSurface)::DownCast(s)) s = t->BasisSurface();
+  return s;
+}
+
+// What to evaluate: a Bézier surface as the B-spline it is (one span), for the span cache.
+Handle(Geom_Surface) evaluable(const Handle(Geom_Surface)& s) {
+  if (auto bezier = Handle(Geom_BezierSurface)::DownCast(s); !bezier.IsNull())
+    return GeomConvert::SurfaceToBSplineSurface(bezier);
+  return s;
+}
+
+std::vector<double> curveKnots(Handle(Geom_Curve) c) {
+  while (auto t = Handle(Geom_TrimmedCurve)::DownCast(c)) c = t->BasisCurve();
+  std::vector<double> k;
+  if (auto bs = Handle(Geom_BSplineCurve)::DownCast(c); !bs.IsNull())
+    for (int i = 1; i <= bs->NbKnots(); ++i) k.push_back(bs->Knot(i));
+  return k;
+}
+
+// Where the surface's derivatives may jump: patches never straddle these.
+void knotBreaks(const Handle(Geom_Surface)& s, std::vector<double>& u, std::vector<double>& v) {
+  if (auto bs = Handle(Geom_BSplineSurface)::DownCast(s); !bs.IsNull()) {
+    for (int i = 1; i <= bs->NbUKnots(); ++i) u.push_back(bs->UKnot(i));
+    for (int i = 1; i <= bs->NbVKnots(); ++i) v.push_back(bs->VKnot(i));
+  } else if (auto rev = Handle(Geom_SurfaceOfRevolution)::DownCast(s); !rev.IsNull()) {
+    v = curveKnots(rev->BasisCurve());
+  } else if (auto ext = Handle(Geom_SurfaceOfLinearExtrusion)::DownCast(s); !ext.IsNull()) {
+    u = curveKnots(ext->BasisCurve());
+  } else if (auto off = Handle(Geom_OffsetSurface)::DownCast(s); !off.IsNull()) {
+    knotBreaks(untrimmed(off->BasisSurface()), u, v);
+  }
+}
+
 bool isClosedForm(GeomAbs_SurfaceType type) {
-  return type == GeomAbs_Plane || type == GeomAbs_Cylinder || type == GeomAbs_Sphere;
+  return type == GeomAbs_Plane || type == GeomAbs_Cylinder || type == GeomAbs_Sphere || type == GeomAbs_Cone ||
+         type == GeomAbs_Torus;
 }
 
 }  // namespace
 
 FaceModel::FaceModel(const TopoDS_Face& face, double characteristicLength)
-    : surface_(BRep_Tool::Surface(face)),
-      evaluator_(surface_),
+    : surface_(untrimmed(BRep_Tool::Surface(face))),
+      evaluator_(evaluable(surface_)),
       reversed_(face.Orientation() == TopAbs_REVERSED),
       tolerance_(std::max(BRep_Tool::Tolerance(face), 1e-12 * characteristicLength)),
+      precision_(1e-9 * characteristicLength),
+      accuracy_(1e-9 * characteristicLength),
       domain_(face) {
   GeomAdaptor_Surface adaptor(surface_);
   type_ = adaptor.GetType();
@@ -47,8 +94,10 @@ FaceModel::FaceModel(const TopoDS_Face& face, double characteristicLength)
   // a loft through closed sections, whose B-spline surface OCCT may not even flag as
   // closed). A face on part of a periodic surface (a fillet) is clamped to its own range
   // after bringing u into it.
-  if (surface_->IsUPeriodic()) uPeriod_ = surface_->UPeriod();
-  if (surface_->IsVPeriodic()) vPeriod_ = surface_->VPeriod();
+  uPeriodic_ = surface_->IsUPeriodic();
+  vPeriodic_ = surface_->IsVPeriodic();
+  if (uPeriodic_) uPeriod_ = surface_->UPeriod();
+  if (vPeriodic_) vPeriod_ = surface_->VPeriod();
   for (TopExp_Explorer ex(face, TopAbs_EDGE); ex.More(); ex.Next()) {
     const TopoDS_Edge& edge = TopoDS::Edge(ex.Current());
     if (!BRep_Tool::IsClosed(edge, face)) continue;
@@ -63,49 +112,28 @@ FaceModel::FaceModel(const TopoDS_Face& face, double characteristicLength)
       vPeriod_ = v1_ - v0_;
     }
   }
-
-  if (!isClosedForm(type_) && type_ != GeomAbs_Cone && type_ != GeomAbs_Torus) buildSeeds(face);
+  if (!isClosedForm(type_)) buildPatches();
 }
 
-// A grid over the face's UV box, kept where it falls inside the trimmed face: the start of
-// a cold search is the seed nearest to the point. Denser for surfaces with more poles.
-void FaceModel::buildSeeds(const TopoDS_Face&) {
-  int nu = 24, nv = 24;
-  if (auto bs = Handle(Geom_BSplineSurface)::DownCast(surface_); !bs.IsNull()) {
-    nu = std::clamp(3 * bs->NbUPoles() + 8, 16, 64);
-    nv = std::clamp(3 * bs->NbVPoles() + 8, 16, 64);
-  }
-  for (int i = 0; i < nu; ++i)
-    for (int j = 0; j < nv; ++j) {
-      const double u = u0_ + (u1_ - u0_) * (i + 0.5) / nu;
-      const double v = v0_ + (v1_ - v0_) * (j + 0.5) / nv;
-      if (insideTrimmedFace(u, v)) seeds_.push_back({u, v, surface_->Value(u, v)});
-    }
-  if (seeds_.empty()) {  // a sliver: fall back to the centre of the UV box
-    const double u = 0.5 * (u0_ + u1_), v = 0.5 * (v0_ + v1_);
-    seeds_.push_back({u, v, surface_->Value(u, v)});
-  }
+void FaceModel::buildPatches() {
+  std::vector<double> uBreaks, vBreaks;
+  knotBreaks(surface_, uBreaks, vBreaks);
+  // A periodic direction without knots is cut in quarters: a patch never wraps round.
+  if (uBreaks.empty() && uPeriod_ > 0)
+    for (int k = 1; k < 4; ++k) uBreaks.push_back(u0_ + k * (u1_ - u0_) / 4);
+  if (vBreaks.empty() && vPeriod_ > 0)
+    for (int k = 1; k < 4; ++k) vBreaks.push_back(v0_ + k * (v1_ - v0_) / 4);
+  PatchOptions options;
+  options.tolerance = tolerance_;
+  patches_ = buildSurfacePatches(
+      [this](double u, double v, gp_Pnt& p, gp_Vec& du, gp_Vec& dv, gp_Vec& duu, gp_Vec& dvv, gp_Vec& duv) {
+        d2(u, v, p, du, dv, duu, dvv, duv);
+      },
+      {u0_, u1_, v0_, v1_}, uBreaks, vBreaks, options);
 }
 
-bool FaceModel::closedForm(const gp_Pnt& x, double& u, double& v) const noexcept {
-  switch (type_) {
-    case GeomAbs_Plane: ElSLib::Parameters(plane_, x, u, v); return true;
-    case GeomAbs_Cylinder: ElSLib::Parameters(cylinder_, x, u, v); return true;
-    case GeomAbs_Sphere: ElSLib::Parameters(sphere_, x, u, v); return true;
-    default: return false;
-  }
-}
-
-void FaceModel::nearestSeed(const gp_Pnt& x, double& u, double& v) const noexcept {
-  double best = INFINITY;
-  for (const SurfaceSeed& s : seeds_) {
-    const double d = s.point.SquareDistance(x);
-    if (d < best) {
-      best = d;
-      u = s.u;
-      v = s.v;
-    }
-  }
+double FaceModel::wrapClosed(double t, double lo, double period, bool periodic) noexcept {
+  return period > 0 && !periodic ? wrap(t, lo, period) : t;
 }
 
 bool FaceModel::wrapOrClamp(double& u, double& v) const noexcept {
@@ -131,73 +159,154 @@ bool FaceModel::wrapOrClamp(double& u, double& v) const noexcept {
   return inside;
 }
 
-// Minimises |S(u,v) - x|^2 with Newton on the exact second derivatives, falling back to
-// Gauss-Newton where the Hessian is not positive definite. A step that made the distance
-// grow is halved (checked with the next evaluation, which Newton needs anyway). Clamps
-// (or wraps) to the face's UV box; pushing against the box twice in a row means the
-// closest point of the face is on its boundary, which an edge or vertex answers for.
-bool FaceModel::newton(const gp_Pnt& x, double& u, double& v) const noexcept {
-  gp_Pnt S;
-  gp_Vec Su, Sv, Suu, Svv, Suv;
-  const double maxStepU = 0.25 * (u1_ - u0_), maxStepV = 0.25 * (v1_ - v0_);
-  double uPrev = u, vPrev = v, fPrev = INFINITY, du = 0, dv = 0;
-  int clamped = 0, clampedTotal = 0;
-  for (int iteration = 0; iteration < 40; ++iteration) {
-    evaluator_.d2(u, v, S, Su, Sv, Suu, Svv, Suv);
-    const gp_Vec r(x, S);
-    const double f = r.SquareMagnitude();
-    // Overshot: back up half way. Near the minimum f changes by rounding only; such a
-    // change is no overshoot (treating it as one halved the step forever).
-    if (f > fPrev * (1 + 1e-12) + 1e-30) {
-      // A clamped step that made things worse: the minimum is on the boundary (an edge's).
-      if (clamped > 0) return false;
-      du *= 0.5;
-      dv *= 0.5;
-      if ((std::abs(du) * std::sqrt(Su.SquareMagnitude()) + std::abs(dv) * std::sqrt(Sv.SquareMagnitude())) <
-          1e-3 * tolerance_) {
-        u = uPrev;
-        v = vPrev;
-        return clamped == 0;
-      }
-      u = uPrev + du;
-      v = vPrev + dv;
-      wrapOrClamp(u, v);
-      continue;
-    }
-    const double gu = r.Dot(Su), gv = r.Dot(Sv);
-    const double guu = Su.Dot(Su), gvv = Sv.Dot(Sv), guv = Su.Dot(Sv);
-    double a = guu + r.Dot(Suu), b = guv + r.Dot(Suv), c = gvv + r.Dot(Svv);
-    double det = a * c - b * b;
-    if (!(a > 0 && det > 1e-14 * guu * gvv)) {  // not a minimum locally: Gauss-Newton
-      a = guu * (1 + 1e-9);
-      b = guv;
-      c = gvv * (1 + 1e-9);
-      det = a * c - b * b;
-      if (!(det > 0)) return false;  // singular point (a pole): give up on this face
-    }
-    du = std::clamp(-(c * gu - b * gv) / det, -maxStepU, maxStepU);
-    dv = std::clamp(-(a * gv - b * gu) / det, -maxStepV, maxStepV);
-    uPrev = u;
-    vPrev = v;
-    fPrev = f;
-    u += du;
-    v += dv;
-    // Pushing against the UV box twice in a row, or three times at all: the closest
-    // point of the face is on its boundary.
-    if (!wrapOrClamp(u, v)) {
-      ++clampedTotal;
-      if (++clamped == 2 || clampedTotal == 3) return false;
-    } else {
-      clamped = 0;
-    }
-    const double step = std::abs(du) * std::sqrt(guu) + std::abs(dv) * std::sqrt(gvv);
-    if (step < 1e-3 * tolerance_) return clamped == 0;
-  }
-  return clamped == 0;
+bool FaceModel::accept(const gp_Pnt& x, double u, double v, double bound, FaceFoot& foot,
+                       const gp_Pnt* point) const noexcept {
+  if (!wrapOrClamp(u, v)) return false;  // the surface's foot lies beyond the face
+  const gp_Pnt p = point ? *point : evaluator_.value(u, v);
+  const double d = p.Distance(x);
+  if (d >= bound) return false;  // cannot beat what we have: skip the domain test
+  if (!domain_.contains(u, v)) return false;
+  foot.u = u;
+  foot.v = v;
+  foot.point = p;
+  foot.distance = d;
+  foot.hasJet = false;
+  return true;
 }
 
-bool FaceModel::insideTrimmedFace(double u, double v) const noexcept {
-  return domain_.contains(u, v);
+SurfaceFeet FaceModel::closedFormFeet(const gp_Pnt& x) const noexcept {
+  switch (type_) {
+    case GeomAbs_Plane: return planeFeet(plane_, x);
+    case GeomAbs_Cylinder: return cylinderFeet(cylinder_, x);
+    case GeomAbs_Sphere: return sphereFeet(sphere_, x);
+    case GeomAbs_Cone: return coneFeet(cone_, x);
+    default: return torusFeet(torus_, x);
+  }
+}
+
+// Every local minimum of the distance on the surface is listed: the face's foot is the
+// closest of those inside it (or lies on its boundary). Exact: always certain.
+FaceSearch FaceModel::projectClosedForm(const gp_Pnt& x, double bound, FaceFoot& foot) const noexcept {
+  const SurfaceFeet feet = closedFormFeet(x);
+  FaceSearch search;
+  for (int k = 0; k < feet.count; ++k) {
+    // x on the axis: every meridian is as close; the middle one is likeliest in the face.
+    const double cu = feet.anyU ? 0.5 * (u0_ + u1_) : feet.u[k], cv = feet.anyV ? 0.5 * (v0_ + v1_) : feet.v[k];
+    if (k == 0) search.u = cu, search.v = cv;
+    if (accept(x, cu, cv, bound, foot)) {
+      search.found = true;
+      bound = foot.distance;
+      search.u = foot.u;
+      search.v = foot.v;
+    }
+  }
+  return search;
+}
+
+// The rectangle Newton may roam on a patch: the patch and a margin, so that a foot on the
+// border between two patches lies inside one search; across a closed direction the
+// margin wraps, elsewhere the face's box stops it.
+UvRect FaceModel::searchRect(const SurfacePatch& patch) const noexcept {
+  const UvRect& r = patch.rect;
+  const double mu = 0.1 * r.du(), mv = 0.1 * r.dv();
+  UvRect s{r.u0 - mu, r.u1 + mu, r.v0 - mv, r.v1 + mv};
+  if (uPeriod_ == 0) s.u0 = std::max(s.u0, u0_), s.u1 = std::min(s.u1, u1_);
+  if (vPeriod_ == 0) s.v0 = std::max(s.v0, v0_), s.v1 = std::min(s.v1, v1_);
+  return s;
+}
+
+const SurfaceJet& FaceModel::nearestSeed(const SurfacePatch& patch, const gp_Pnt& x) const noexcept {
+  const SurfaceJet* nearest = &patch.seeds[0];
+  double best = INFINITY;
+  for (const SurfaceJet& s : patch.seeds)
+    if (const double d = s.p.SquareDistance(x); d < best) best = d, nearest = &s;
+  return *nearest;
+}
+
+FaceSearch FaceModel::projectPatch(const gp_Pnt& x, int index, FaceStart start, double bound, FaceFoot& foot,
+                                   const FaceFoot* best) const noexcept {
+  const SurfacePatch& patch = patches_[index];
+  const UvRect rect = searchRect(patch);
+  const Vec3 xv(x.X(), x.Y(), x.Z());
+  // Brings t next to the rectangle across a seam.
+  auto near = [](double t, double lo, double period) { return period > 0 ? wrap(t, lo, period) : t; };
+  auto inRect = [&rect](double u, double v) { return u >= rect.u0 && u <= rect.u1 && v >= rect.v0 && v <= rect.v1; };
+  FaceSearch search;
+  if (best) {
+    // The best foot so far is on this face. In the patch's rectangle it is the patch's
+    // one minimum closer than the bound (when that is certain): nothing to search.
+    // Beside it, the search starts from its nearest point of the rectangle, from which
+    // it is pushed out at once unless the patch holds a foot of its own.
+    const double bu = near(best->u, rect.u0, uPeriod_), bv = near(best->v, rect.v0, vPeriod_);
+    if (inRect(bu, bv) && patch.clearOfFocus(xv, bound)) {
+      search.u = best->u;
+      search.v = best->v;
+      return search;
+    }
+    start = {true, std::clamp(bu, rect.u0, rect.u1), std::clamp(bv, rect.v0, rect.v1), nullptr};
+  }
+  SurfaceJet from;
+  bool evaluated = false;
+  if (start.warm) {
+    from.u = near(start.u, rect.u0, uPeriod_);
+    from.v = near(start.v, rect.v0, vPeriod_);
+  }
+  if (start.warm && inRect(from.u, from.v)) {
+    if (start.jet && start.jet->u == start.u && start.jet->v == start.v) {
+      from = *start.jet;  // evaluated last tick, at the same parameters
+      from.u = near(from.u, rect.u0, uPeriod_);
+      from.v = near(from.v, rect.v0, vPeriod_);
+      evaluated = true;
+    }
+  } else {
+    from = nearestSeed(patch, x);  // its first step costs no evaluation either
+    evaluated = true;
+  }
+  // After a Newton step shorter than this the next would be below the precision: the
+  // error shrinks like step^2 over the length on which the surface bends.
+  const double bendLength = std::min(patch.spread, 1 / std::max({patch.kTowards, patch.kAway, 1e-300}));
+  const NewtonResult n =
+      newtonInRect(*this, x, rect, from, evaluated, precision_, std::sqrt(precision_ * bendLength));
+  search.u = n.u;
+  search.v = n.v;
+  if (n.end == SearchEnd::Interior) {
+    // The foot from the last evaluation, to second order: no evaluation more.
+    const gp_Pnt point = n.jet.pointAt(n.u - n.jet.u, n.v - n.jet.v);
+    search.found = accept(x, n.u, n.v, bound, foot, &point);
+    if (search.found) {
+      gp_Vec normal = n.jet.normalAt(n.u - n.jet.u, n.v - n.jet.v);
+      if (normal.Magnitude() > 0) normal.Normalize();
+      foot.normal = reversed_ ? normal.Reversed() : normal;
+      foot.jet = n.jet;
+      foot.hasJet = true;
+      search.u = foot.u;
+      search.v = foot.v;
+    }
+  }
+  // Clear of the patch's focal points, the patch holds one local minimum at most, and
+  // Newton went to it or out of the patch.
+  search.certain = n.end != SearchEnd::Failed && patch.clearOfFocus(xv, search.found ? foot.distance : bound);
+  return search;
+}
+
+FaceSearch FaceModel::project(const gp_Pnt& x, int patch, const FaceStart& start, double bound, FaceFoot& foot,
+                              const FaceFoot* best) const noexcept {
+  if (patch < 0) return projectClosedForm(x, bound, foot);
+  return projectPatch(x, patch, start, bound, foot, best);
+}
+
+FaceSearch FaceModel::exhaust(const gp_Pnt& x, int index, double bound, FaceFoot& foot) const noexcept {
+  const SurfacePatch& patch = patches_[index];
+  FaceFoot candidate;
+  const BranchResult r = branchAndBound(
+      *this, x, patch, bound,
+      [&](double u, double v) { return accept(x, u, v, INFINITY, candidate); },
+      [&](const UvRect& cell) { return domain_.rectOutside(cell.u0, cell.u1, cell.v0, cell.v1); }, accuracy_,
+      precision_);
+  FaceSearch search;
+  search.certain = r.certain;
+  if (r.found && accept(x, r.u, r.v, bound, foot)) search.found = true;
+  return search;
 }
 
 gp_Vec FaceModel::normalAt(double u, double v) const noexcept {
@@ -216,32 +325,9 @@ gp_Vec FaceModel::normalAt(double u, double v) const noexcept {
   return reversed_ ? n.Reversed() : n;
 }
 
-bool FaceModel::project(const gp_Pnt& x, bool warm, double& u, double& v, double bound,
-                        FaceFoot& foot) const noexcept {
-  if (!closedForm(x, u, v)) {
-    if (!warm) {
-      // Cones and tori: the parameters of x itself start Newton near the foot.
-      if (type_ == GeomAbs_Cone) ElSLib::Parameters(cone_, x, u, v);
-      else if (type_ == GeomAbs_Torus) ElSLib::Parameters(torus_, x, u, v);
-      else nearestSeed(x, u, v);
-    }
-    if (!newton(x, u, v)) return false;
-  }
-  if (!wrapOrClamp(u, v)) return false;  // the surface's foot lies beyond the face
-  const gp_Pnt p = evaluator_.value(u, v);
-  const double d = p.Distance(x);
-  if (d >= bound) return false;          // cannot beat what we have: skip the classifier
-  if (!insideTrimmedFace(u, v)) return false;
-  foot.u = u;
-  foot.v = v;
-  foot.point = p;
-  foot.distance = d;
-  foot.normal = normalAt(u, v);
-  return true;
-}
-
 std::size_t FaceModel::memoryBytes() const noexcept {
-  return sizeof(*this) + seeds_.capacity() * sizeof(SurfaceSeed) + domain_.memoryBytes() + evaluator_.memoryBytes();
+  return sizeof(*this) + patches_.capacity() * sizeof(SurfacePatch) + domain_.memoryBytes() +
+         evaluator_.memoryBytes();
 }
 
 }  // namespace hg::geometry::exact

@@ -1,7 +1,12 @@
 #pragma once
-// One B-rep face, prepared once for fast closest-point queries: its untrimmed surface
-// (with closed forms for the elementary kinds), its UV box, how it wraps, a trimmed-face
-// classifier and, for freeform surfaces, seeds for the cold global search.
+// One B-rep face, prepared once for closest-point queries. Elementary faces (plane,
+// cylinder, sphere, cone, torus) list the local minima of the distance in closed form
+// (closed_form_foot.hpp); every other surface (revolution, extrusion, offset, B-spline,
+// Bézier, ...) is cut into nearly flat patches (surface_patches.hpp), each searched by
+// Newton where x is clear of its focal points and exhaustively elsewhere
+// (patch_search.hpp). Either way the
+// answer is the face's closest interior point, or the proof that there is none closer
+// than a bound (its boundary's edges and vertices answer for the rest).
 #include <Geom_Surface.hxx>
 #include <GeomAbs_SurfaceType.hxx>
 #include <TopoDS_Face.hxx>
@@ -13,46 +18,94 @@
 
 #include <vector>
 
+#include "closed_form_foot.hpp"
+#include "surface_jet.hpp"
 #include "surface_evaluator.hpp"
+#include "surface_patches.hpp"
 #include "uv_domain.hpp"
 
 namespace hg::geometry::exact {
 
-struct SurfaceSeed {
-  double u, v;
-  gp_Pnt point;
-};
-
-// Where a point projects on a face: the foot, its parameters and the outward normal.
+// Where a point projects on a face: the foot and its parameters; on a freeform face also
+// its outward normal and the surface's last evaluation (the next tick's free first step).
 struct FaceFoot {
   double u = 0, v = 0;
   gp_Pnt point;
-  gp_Vec normal;       // outward (face orientation applied), unit
   double distance = 0;
+  bool hasJet = false;
+  gp_Vec normal;   // outward, unit (with the jet)
+  SurfaceJet jet;
+};
+
+// Where a search on a face starts: cold, at (u, v), or at a jet already evaluated there.
+struct FaceStart {
+  bool warm = false;
+  double u = 0, v = 0;
+  const SurfaceJet* jet = nullptr;
+};
+
+// What a search on a face or patch established.
+struct FaceSearch {
+  bool found = false;    // a foot closer than the bound, inside the trimmed face
+  bool certain = true;   // false: a closer foot may hide on the patch (x near its focal points)
+  double u = 0, v = 0;   // where the search ended: the next tick's warm start
 };
 
 class FaceModel {
  public:
   FaceModel(const TopoDS_Face& face, double characteristicLength);
 
-  // The closest point of the face to x, from (u, v) when `warm`, else from the closed form
-  // or the nearest seed; (u, v) is left where the search ended, for the next warm start.
-  // False when the surface's closest point lies outside the trimmed face (an edge or
-  // vertex of the face is then closer) or when `bound` cannot be beaten.
-  bool project(const gp_Pnt& x, bool warm, double& u, double& v, double bound, FaceFoot& foot) const noexcept;
-  // Whether (u, v) lies inside the trimmed face.
-  bool contains(double u, double v) const noexcept { return insideTrimmedFace(u, v); }
+  // Freeform faces are searched patch by patch (each a leaf of the part's BVH); the
+  // others as a whole (patch -1).
+  const std::vector<SurfacePatch>& patches() const { return patches_; }
+  bool freeform() const { return !patches_.empty(); }
+
+  // The closest point of the face (or of one patch of it) to x, if closer than `bound`.
+  // `best`: the best foot so far when it lies on this face, or null.
+  FaceSearch project(const gp_Pnt& x, int patch, const FaceStart& start, double bound, FaceFoot& foot,
+                     const FaceFoot* best = nullptr) const noexcept;
+  // The exhaustive search of one patch (the fallback where `project` was not certain).
+  FaceSearch exhaust(const gp_Pnt& x, int patch, double bound, FaceFoot& foot) const noexcept;
+  // Whether a Newton search on the face (or patch) is certain for x when only feet closer
+  // than `best` matter: always on the elementary faces, where x is clear of the patch's
+  // focal points on the others.
+  bool certainFor(int patch, const Vec3& x, double best) const noexcept {
+    return patch < 0 || patches_[patch].clearOfFocus(x, best);
+  }
+
+  bool contains(double u, double v) const noexcept { return domain_.contains(u, v); }
   // Outward unit normal at (u, v).
   gp_Vec normalAt(double u, double v) const noexcept;
   std::size_t memoryBytes() const noexcept;
 
+  // The surface at (u, v) of the face's parameter box, wrapped across a closed direction.
+  gp_Pnt value(double u, double v) const noexcept {
+    return evaluator_.value(wrapClosed(u, u0_, uPeriod_, uPeriodic_), wrapClosed(v, v0_, vPeriod_, vPeriodic_));
+  }
+  void d2(double u, double v, gp_Pnt& p, gp_Vec& du, gp_Vec& dv, gp_Vec& duu, gp_Vec& dvv,
+          gp_Vec& duv) const noexcept {
+    evaluator_.d2(wrapClosed(u, u0_, uPeriod_, uPeriodic_), wrapClosed(v, v0_, vPeriod_, vPeriodic_), p, du, dv, duu,
+                  dvv, duv);
+  }
+
  private:
-  bool closedForm(const gp_Pnt& x, double& u, double& v) const noexcept;
-  void nearestSeed(const gp_Pnt& x, double& u, double& v) const noexcept;
-  bool newton(const gp_Pnt& x, double& u, double& v) const noexcept;
+  SurfaceFeet closedFormFeet(const gp_Pnt& x) const noexcept;
+  FaceSearch projectClosedForm(const gp_Pnt& x, double bound, FaceFoot& foot) const noexcept;
+  FaceSearch projectPatch(const gp_Pnt& x, int patch, FaceStart start, double bound, FaceFoot& foot,
+                          const FaceFoot* best) const noexcept;
+  // Where Newton starts on a patch when nothing warm lies in its rectangle: the seed
+  // nearest to x.
+  const SurfaceJet& nearestSeed(const SurfacePatch& patch, const gp_Pnt& x) const noexcept;
+  // A point of the surface accepted as the face's foot: in the face's box (after wrapping)
+  // and in the trimmed face, and closer than the bound. `point`: S(u, v), when known.
+  bool accept(const gp_Pnt& x, double u, double v, double bound, FaceFoot& foot,
+              const gp_Pnt* point = nullptr) const noexcept;
   bool wrapOrClamp(double& u, double& v) const noexcept;  // false if clamped
-  bool insideTrimmedFace(double u, double v) const noexcept;
-  void buildSeeds(const TopoDS_Face& face);
+  UvRect searchRect(const SurfacePatch& patch) const noexcept;
+  // A closed direction that the surface does not know as periodic (a loft through closed
+  // sections) is wrapped by hand before evaluation.
+  static double wrapClosed(double t, double lo, double period, bool periodic) noexcept;
+  void buildPatches();
 
   Handle(Geom_Surface) surface_;
   SurfaceEvaluator evaluator_;
@@ -64,10 +117,13 @@ class FaceModel {
   gp_Torus torus_;
   double u0_, u1_, v0_, v1_;          // the face's UV box
   double uPeriod_ = 0, vPeriod_ = 0;  // > 0 when the face spans a closed direction: wrap
+  bool uPeriodic_ = false, vPeriodic_ = false;  // the surface itself is periodic there
   bool reversed_;
   double tolerance_;                  // model units
+  double precision_;                  // model units: how close Newton takes the foot
+  double accuracy_;                   // model units: what the exhaustive search settles to
   UvDomain domain_;
-  std::vector<SurfaceSeed> seeds_;    // freeform only
+  std::vector<SurfacePatch> patches_;  // freeform only
 };
 
 }  // namespace hg::geometry::exact

@@ -3,6 +3,7 @@
 #include <Geom_BSplineSurface.hxx>
 
 #include <algorithm>
+#include <cmath>
 
 namespace hg::geometry::exact {
 namespace {
@@ -20,6 +21,8 @@ SurfaceEvaluator::SurfaceEvaluator(const Handle(Geom_Surface)& surface) : surfac
   if (bs.IsNull()) return;
   for (int i = 1; i <= bs->NbUKnots(); ++i) uKnots_.push_back(bs->UKnot(i));
   for (int i = 1; i <= bs->NbVKnots(); ++i) vKnots_.push_back(bs->VKnot(i));
+  uPeriodic_ = bs->IsUPeriodic();
+  vPeriodic_ = bs->IsVPeriodic();
   const int nu = static_cast<int>(uKnots_.size()) - 1, nv = static_cast<int>(vKnots_.size()) - 1;
   const TColStd_Array2OfReal* weights = bs->Weights();
   for (int i = 0; i < nu; ++i)
@@ -33,8 +36,14 @@ SurfaceEvaluator::SurfaceEvaluator(const Handle(Geom_Surface)& surface) : surfac
   cacheBytes_ = spans_.size() * (bs->UDegree() + 1) * (bs->VDegree() + 1) * 4 * sizeof(double);
 }
 
-const BSplSLib_Cache* SurfaceEvaluator::cacheAt(double u, double v) const noexcept {
+const BSplSLib_Cache* SurfaceEvaluator::cacheAt(double& u, double& v) const noexcept {
   if (spans_.empty()) return nullptr;
+  auto intoPeriod = [](double& t, const std::vector<double>& knots) {
+    const double lo = knots.front(), period = knots.back() - lo;
+    t -= std::floor((t - lo) / period) * period;
+  };
+  if (uPeriodic_) intoPeriod(u, uKnots_);
+  if (vPeriodic_) intoPeriod(v, vKnots_);
   const int nv = static_cast<int>(vKnots_.size()) - 1;
   return spans_[spanOf(uKnots_, u) * nv + spanOf(vKnots_, v)].get();
 }

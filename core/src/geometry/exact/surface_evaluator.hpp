@@ -21,10 +21,13 @@ class SurfaceEvaluator {
   std::size_t memoryBytes() const noexcept;
 
  private:
-  const BSplSLib_Cache* cacheAt(double u, double v) const noexcept;
+  // The span holding (u, v), with u and v brought into the first period of a periodic
+  // B-spline (its cache covers one period only).
+  const BSplSLib_Cache* cacheAt(double& u, double& v) const noexcept;
 
   Handle(Geom_Surface) surface_;
   std::vector<double> uKnots_, vKnots_;      // distinct knots
+  bool uPeriodic_ = false, vPeriodic_ = false;
   std::vector<Handle(BSplSLib_Cache)> spans_;  // (u span) * (v spans) + (v span)
   std::size_t cacheBytes_ = 0;
 };

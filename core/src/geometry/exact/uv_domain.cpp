@@ -72,6 +72,8 @@ void UvDomain::addPiece(const Geom2d_Curve* c, double t0, double t1) {
   const double margin = 0.1 * (piece.uHigh - piece.uLow) + 1e-9 * (1 + std::abs(piece.uHigh));
   piece.uLow -= margin;
   piece.uHigh += margin;
+  const double vMargin = 0.1 * (piece.vHigh - piece.vLow) + 1e-9 * (1 + std::abs(piece.vHigh));
+  boundaryBoxes_.push_back({piece.uLow, piece.uHigh, piece.vLow - vMargin, piece.vHigh + vMargin});
   if (piece.vHigh > piece.vLow) pieces_.push_back(piece);  // a piece of constant v is never crossed
 }
 
@@ -129,8 +131,14 @@ bool UvDomain::contains(double u, double v) const noexcept {
   return inside;
 }
 
+bool UvDomain::rectOutside(double u0, double u1, double v0, double v1) const noexcept {
+  for (const Box& b : boundaryBoxes_)
+    if (b.u0 <= u1 && b.u1 >= u0 && b.v0 <= v1 && b.v1 >= v0) return false;
+  return !contains(0.5 * (u0 + u1), 0.5 * (v0 + v1));
+}
+
 std::size_t UvDomain::memoryBytes() const noexcept {
-  std::size_t bytes = sizeof(*this) + pieces_.capacity() * sizeof(Piece);
+  std::size_t bytes = sizeof(*this) + pieces_.capacity() * sizeof(Piece) + boundaryBoxes_.capacity() * sizeof(Box);
   for (const auto& b : bins_) bytes += b.capacity() * sizeof(int);
   return bytes;
 }

@@ -15,6 +15,9 @@ class UvDomain {
  public:
   explicit UvDomain(const TopoDS_Face& face);
   bool contains(double u, double v) const noexcept;
+  // Whether the rectangle lies wholly outside the face: no boundary curve comes near it
+  // and its centre is outside.
+  bool rectOutside(double u0, double u1, double v0, double v1) const noexcept;
   std::size_t memoryBytes() const noexcept;
 
  private:
@@ -32,6 +35,10 @@ class UvDomain {
 
   std::vector<Handle(Geom2d_Curve)> curves_;
   std::vector<Piece> pieces_;
+  struct Box {
+    double u0, u1, v0, v1;
+  };
+  std::vector<Box> boundaryBoxes_;  // every piece's box, constant-v pieces included
   // The pieces overlapping each band of v, so that a query looks at few of them.
   double vMin_ = 0, vMax_ = 0;
   std::vector<std::vector<int>> bins_;

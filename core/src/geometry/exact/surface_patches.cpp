@@ -1,0 +1,176 @@
+#include "surface_patches.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+
+namespace hg::geometry::exact {
+namespace {
+
+constexpr int kGrid = 4;  // samples per side of a rectangle under analysis: (kGrid + 1)^2
+
+Vec3 toVec(const gp_XYZ& p) { return {p.X(), p.Y(), p.Z()}; }
+
+// What the samples of one rectangle say about it.
+struct Analysis {
+  double turnU = 0, turnV = 0;  // largest normal turn along u lines and along v lines
+  double maxTurn = 0;           // largest angle between a sample normal and the mean
+  SurfacePatch patch;
+};
+
+// The principal curvatures at a regular point, signed: positive where the surface bends
+// towards n (its centre of curvature lies on n's side).
+struct Principal {
+  double k1 = 0, k2 = 0;
+};
+
+Principal principalCurvatures(const gp_Vec& du, const gp_Vec& dv, const gp_Vec& duu, const gp_Vec& dvv,
+                              const gp_Vec& duv, const gp_Vec& n) {
+  const double E = du.Dot(du), F = du.Dot(dv), G = dv.Dot(dv);
+  const double L = duu.Dot(n), M = duv.Dot(n), N = dvv.Dot(n);
+  const double det = E * G - F * F;
+  if (!(det > 0)) return {};
+  const double K = (L * N - M * M) / det, H = (E * N - 2 * F * M + G * L) / (2 * det);
+  const double root = std::sqrt(std::max(0.0, H * H - K));
+  return {H + root, H - root};
+}
+
+Analysis analyse(const SurfaceD2& surface, const UvRect& r, double tolerance) {
+  Analysis a;
+  a.patch.rect = r;
+  gp_Pnt p[kGrid + 1][kGrid + 1];
+  gp_Vec normal[kGrid + 1][kGrid + 1];
+  bool regular[kGrid + 1][kGrid + 1];
+  double maxSu = 0, maxSv = 0, maxSuu = 0, maxSvv = 0, maxSuv = 0;
+  Principal extreme;  // the largest curvature towards n and against it (as -k)
+
+  gp_Vec mean(0, 0, 0);
+  const double hu = r.du() / kGrid, hv = r.dv() / kGrid;
+  for (int i = 0; i <= kGrid; ++i)
+    for (int j = 0; j <= kGrid; ++j) {
+      gp_Vec su, sv, suu, svv, suv;
+      surface(r.u0 + i * hu, r.v0 + j * hv, p[i][j], su, sv, suu, svv, suv);
+      maxSu = std::max(maxSu, su.Magnitude());
+      maxSv = std::max(maxSv, sv.Magnitude());
+      maxSuu = std::max(maxSuu, suu.Magnitude());
+      maxSvv = std::max(maxSvv, svv.Magnitude());
+      maxSuv = std::max(maxSuv, suv.Magnitude());
+      gp_Vec n = su.Crossed(sv);
+      const double m = n.Magnitude();
+      // A pole (a degenerate side of the box) has no normal; its neighbours decide.
+      regular[i][j] = m > 1e-9 * su.Magnitude() * sv.Magnitude() && m > 0;
+      if (regular[i][j]) {
+        n /= m;
+        normal[i][j] = n;
+        mean += n;
+        // Signed against one common orientation (the first sample's): on a patch the
+        // normal turns by less than a right angle, so the sides agree.
+        const Principal k = principalCurvatures(su, sv, suu, svv, suv, n);
+        extreme.k1 = std::max({extreme.k1, k.k1, k.k2});
+        extreme.k2 = std::max({extreme.k2, -k.k1, -k.k2});
+      }
+    }
+  auto angle = [](const gp_Vec& a, const gp_Vec& b) { return std::acos(std::clamp(a.Dot(b), -1.0, 1.0)); };
+  for (int i = 0; i <= kGrid; ++i)
+    for (int j = 0; j <= kGrid; ++j) {
+      if (!regular[i][j]) continue;
+      if (i < kGrid && regular[i + 1][j]) a.turnU = std::max(a.turnU, angle(normal[i][j], normal[i + 1][j]) * kGrid);
+      if (j < kGrid && regular[i][j + 1]) a.turnV = std::max(a.turnV, angle(normal[i][j], normal[i][j + 1]) * kGrid);
+    }
+  const double meanNorm = mean.Magnitude();
+  if (meanNorm > 0) mean /= meanNorm;
+  for (int i = 0; i <= kGrid; ++i)
+    for (int j = 0; j <= kGrid; ++j)
+      if (regular[i][j]) a.maxTurn = std::max(a.maxTurn, meanNorm > 0 ? angle(mean, normal[i][j]) : M_PI);
+
+  // Between samples the surface leaves their hull by at most the bilinear interpolation
+  // error, (hu^2 |S_uu| + 2 hu hv |S_uv| + hv^2 |S_vv|) / 8; the second derivatives are
+  // sampled too, so the margin is doubled.
+  const double sag = 0.25 * (hu * hu * maxSuu + 2 * hu * hv * maxSuv + hv * hv * maxSvv) + tolerance;
+  std::vector<Vec3> points;
+  points.reserve((kGrid + 1) * (kGrid + 1));
+  for (int i = 0; i <= kGrid; ++i)
+    for (int j = 0; j <= kGrid; ++j) points.push_back(toVec(p[i][j].XYZ()));
+  // The oriented box over the patch's mean normal: a thin slab where it is nearly flat.
+  const bool flat = meanNorm > 0 && a.maxTurn < M_PI / 2;
+  LeafBound& bound = a.patch.bound;
+  bound = LeafBound::around(points, flat ? toVec(mean.XYZ()) : Vec3::Zero(), true, sag);
+  // Sampled curvature: with a margin, as it may peak between samples.
+  a.patch.kTowards = 1.25 * extreme.k1;
+  a.patch.kAway = 1.25 * extreme.k2;
+  a.patch.maxSuu = 2 * maxSuu;
+  a.patch.maxSuv = 2 * maxSuv;
+  a.patch.maxSvv = 2 * maxSvv;
+  a.patch.lipschitzU = 1.25 * (maxSu + 0.5 * (hu * maxSuu + hv * maxSuv));
+  a.patch.lipschitzV = 1.25 * (maxSv + 0.5 * (hv * maxSvv + hu * maxSuv));
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      SurfaceJet& s = a.patch.seeds[3 * i + j];
+      s.u = r.u0 + r.du() * (2 * i + 1) / 6.0;
+      s.v = r.v0 + r.dv() * (2 * j + 1) / 6.0;
+      surface(s.u, s.v, s.p, s.du, s.dv, s.duu, s.dvv, s.duv);
+    }
+  for (const Vec3& q : points) a.patch.spread = std::max(a.patch.spread, (q - bound.centre).norm());
+  a.patch.spread += sag;
+  return a;
+}
+
+std::vector<double> cuts(double lo, double hi, const std::vector<double>& breaks) {
+  std::vector<double> c{lo};
+  const double eps = 1e-9 * (hi - lo);
+  for (double b : breaks)
+    if (b > c.back() + eps && b < hi - eps) c.push_back(b);
+  c.push_back(hi);
+  return c;
+}
+
+}  // namespace
+
+std::vector<SurfacePatch> buildSurfacePatches(const SurfaceD2& surface, const UvRect& box,
+                                              const std::vector<double>& uBreaks,
+                                              const std::vector<double>& vBreaks, const PatchOptions& options) {
+  std::vector<double> us = uBreaks, vs = vBreaks;
+  std::sort(us.begin(), us.end());
+  std::sort(vs.begin(), vs.end());
+  const std::vector<double> uc = cuts(box.u0, box.u1, us), vc = cuts(box.v0, box.v1, vs);
+  // Breadth first, so that a face that runs out of patches is cut evenly.
+  struct Todo {
+    UvRect rect;
+    int depth;
+  };
+  std::deque<Todo> todo;
+  for (std::size_t i = 0; i + 1 < uc.size(); ++i)
+    for (std::size_t j = 0; j + 1 < vc.size(); ++j) todo.push_back({{uc[i], uc[i + 1], vc[j], vc[j + 1]}, 0});
+  std::vector<SurfacePatch> patches;
+  while (!todo.empty()) {
+    const auto [r, depth] = todo.front();
+    todo.pop_front();
+    Analysis a = analyse(surface, r, options.tolerance);
+    const bool room = patches.size() + todo.size() + 2 <= static_cast<std::size_t>(options.maxPatches);
+    // A patch is cut while its normal turns too much, or while it is long for its
+    // curvature (a strip along a cylinder-like surface: its focal distance, not its turn,
+    // is then what limits a certain Newton search). Around a pole the normal turns
+    // whatever the size: the depth stops the cutting there.
+    const double k = std::max(a.patch.kTowards, a.patch.kAway);
+    const bool turns = a.maxTurn > options.maxTurn_rad;
+    const bool long_ = a.patch.spread * k > options.maxSpreadCurvature;
+    if (room && depth < options.maxDepth && (turns || long_)) {
+      // Halve across the direction the normal turns most along, or else the longer one.
+      const bool acrossU = turns ? a.turnU >= a.turnV : a.patch.lipschitzU * r.du() >= a.patch.lipschitzV * r.dv();
+      if (acrossU) {
+        const double m = 0.5 * (r.u0 + r.u1);
+        todo.push_back({{r.u0, m, r.v0, r.v1}, depth + 1});
+        todo.push_back({{m, r.u1, r.v0, r.v1}, depth + 1});
+      } else {
+        const double m = 0.5 * (r.v0 + r.v1);
+        todo.push_back({{r.u0, r.u1, r.v0, m}, depth + 1});
+        todo.push_back({{r.u0, r.u1, m, r.v1}, depth + 1});
+      }
+      continue;
+    }
+    patches.push_back(a.patch);
+  }
+  return patches;
+}
+
+}  // namespace hg::geometry::exact

@@ -1,0 +1,75 @@
+#pragma once
+// A freeform face cut, once, into nearly flat patches: rectangles of its UV box on which
+// the surface turns by less than a set angle. Each patch carries what makes a query on it
+// both fast and certain:
+//  - a bound (an oriented box over its mean normal), so that the part's BVH visits only
+//    the patches that can hold a closer point than the best found so far;
+//  - its curvature and size, which tell whether x is clear of the patch's focal points (the
+//    centres of curvature, P + N / k) for every foot that could matter: then the patch
+//    holds one local minimum of the distance at most, so a Newton search that ends inside
+//    the patch has found its foot and one pushed out of it proves there is none inside.
+//    Where it is not, a slower exhaustive search (branch and bound) answers;
+//  - bounds of the surface's derivatives for that search, and a 3x3 grid of start points.
+// Bounds and curvature come from samples, with safety margins: the cut is fine enough that
+// a surface of bounded curvature cannot escape them between samples.
+#include <gp_Pnt.hxx>
+
+#include <functional>
+#include <vector>
+
+#include "feature_bvh.hpp"
+#include "surface_jet.hpp"
+
+namespace hg::geometry::exact {
+
+struct UvRect {
+  double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
+  double du() const { return u1 - u0; }
+  double dv() const { return v1 - v0; }
+};
+
+
+struct SurfacePatch {
+  UvRect rect;
+  LeafBound bound;            // model units
+  // The largest principal curvature bending towards +N (S_u x S_v) and towards -N.
+  double kTowards = 0, kAway = 0;
+  double spread = 0;  // every point of the patch lies within this of the bound's centre
+  double lipschitzU = 0, lipschitzV = 0;  // bounds of |S_u|, |S_v| on the patch
+  double maxSuu = 0, maxSuv = 0, maxSvv = 0;  // bounds of the second derivatives
+  SurfaceJet seeds[9];  // a first Newton step from a seed costs no evaluation
+
+  // Whether a Newton search on the patch is certain for x when only feet closer than
+  // `best` matter. At a critical point P of the distance (x - P along the normal N, at
+  // distance d) its Hessian is I - d II: a strict local minimum while d k < 1 for the
+  // curvature bending towards x. Two minima on one patch would need a saddle or a maximum
+  // between them, and the distance grows by no more than the path between them: such a
+  // point lies at most best + spread from x. If that is still short of the focal distance
+  // 1/k, the patch holds one minimum at most.
+  bool clearOfFocus(const Vec3& x, double best) const noexcept {
+    const int side = bound.side(x);
+    const double k = side > 0 ? kTowards : side < 0 ? kAway : std::max(kTowards, kAway);
+    return (best + spread) * k < kFocalMargin;
+  }
+  static constexpr double kFocalMargin = 0.9;
+};
+
+// Evaluates the surface and its first and second derivatives at (u, v) of the face's box.
+using SurfaceD2 = std::function<void(double u, double v, gp_Pnt& p, gp_Vec& du, gp_Vec& dv, gp_Vec& duu,
+                                     gp_Vec& dvv, gp_Vec& duv)>;
+
+struct PatchOptions {
+  double maxTurn_rad = 0.3;   // the normal turns by at most about this on a patch
+  double maxSpreadCurvature = 0.3;  // and its radius is at most this over its curvature
+  int maxPatches = 4096;      // per face
+  int maxDepth = 12;          // halvings of one knot span
+  double tolerance = 0;       // model units, added to every bound
+};
+
+// Cuts `box` at the given breaks (the surface's knots: the derivatives may jump there),
+// then halves every rectangle whose normal turns too much.
+std::vector<SurfacePatch> buildSurfacePatches(const SurfaceD2& surface, const UvRect& box,
+                                              const std::vector<double>& uBreaks,
+                                              const std::vector<double>& vBreaks, const PatchOptions& options);
+
+}  // namespace hg::geometry::exact
