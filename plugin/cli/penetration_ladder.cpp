@@ -157,6 +157,11 @@ LadderResult runPenetrationLadder(const LadderOptions& o, const std::function<vo
                                             [&](const Vec3& x, QueryState& s) { return model->query(x, s); },
                                             answers.coherent));
     r.queries = static_cast<int>(answers.random.size() + answers.coherent.size());
+    for (const auto* list : {&answers.random, &answers.coherent})
+      for (const Penetration& p : *list) {
+        r.fallbackQueries += p.fallbacks > 0;
+        r.uncertainQueries += !p.certain;
+      }
     if (isReference) truth = answers;
     measureErrors(truth, answers, isReference ? 1 : checkEvery, rung.signTolerance_m, r);
     result.rungs.push_back(r);
@@ -176,25 +181,29 @@ nlohmann::json toJson(const LadderResult& result) {
                         {"max_dist_err_m", r.maxError_m},
                         {"rms_dist_err_m", r.rmsError_m},
                         {"sign_errors", r.signErrors},
-                        {"queries", r.queries}});
+                        {"queries", r.queries},
+                        {"fallback_queries", r.fallbackQueries},
+                        {"uncertain_queries", r.uncertainQueries}});
   return {{"part", result.part}, {"faces", result.faces}, {"backends", backends}};
 }
 
 void printLadder(const LadderResult& result, std::ostream& out) {
   char line[256];
   out << "part " << result.part << ": " << result.faces << " faces\n";
-  std::snprintf(line, sizeof line, "%-10s %-22s %9s %10s %20s %20s %10s %10s %6s %9s\n", "back end", "setting",
+  std::snprintf(line, sizeof line, "%-10s %-22s %9s %10s %20s %20s %10s %10s %6s %9s %9s\n", "back end", "setting",
                 "build s", "memory KiB", "random p50/p99 us", "coherent p50/p99 us", "max err m", "rms err m", "sign",
-                "vs ref");
+                "vs ref", "fallback");
   out << line;
   const double reference = result.rungs.empty() ? 0 : result.rungs.front().random_us.p50;
   for (const RungResult& r : result.rungs) {
     char random[32], coherent[32];
     std::snprintf(random, sizeof random, "%.2f / %.2f", r.random_us.p50, r.random_us.p99);
     std::snprintf(coherent, sizeof coherent, "%.2f / %.2f", r.coherent_us.p50, r.coherent_us.p99);
-    std::snprintf(line, sizeof line, "%-10s %-22s %9.3f %10.0f %20s %20s %10.1e %10.1e %6d %8.0fx\n", r.name.c_str(),
+    char fallback[32];
+    std::snprintf(fallback, sizeof fallback, "%.2f%%", 100.0 * r.fallbackQueries / std::max(1, r.queries));
+    std::snprintf(line, sizeof line, "%-10s %-22s %9.3f %10.0f %20s %20s %10.1e %10.1e %6d %8.0fx %9s\n", r.name.c_str(),
                   r.setting.c_str(), r.build_s, r.memoryBytes / 1024.0, random, coherent, r.maxError_m, r.rmsError_m,
-                  r.signErrors, reference / std::max(r.random_us.p50, 1e-9));
+                  r.signErrors, reference / std::max(r.random_us.p50, 1e-9), fallback);
     out << line;
   }
 }

@@ -36,6 +36,10 @@ struct RungResult {
   double maxError_m = 0, rmsError_m = 0;
   int signErrors = 0;
   int queries = 0;
+  // The exact back end's slower exhaustive search: queries that needed it, and queries it
+  // could not settle within its budget (their answer may be off).
+  int fallbackQueries = 0;
+  int uncertainQueries = 0;
 };
 
 struct LadderResult {
