@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <BRepAdaptor_Curve.hxx>
+#include <BRep_Tool.hxx>
+#include <Geom_RectangularTrimmedSurface.hxx>
 
 #include "alloc_counter.hpp"
 #include "hapticgrasp/geometry/backends.hpp"
@@ -46,6 +48,110 @@ TEST(ExactPenetration, AgreesWithReferenceOnCylinder) { expectAgreement(test::cy
 TEST(ExactPenetration, AgreesWithReferenceOnSphere) { expectAgreement(test::spherePart(), 1000, 5e-3); }
 TEST(ExactPenetration, AgreesWithReferenceOnFilletedDrilledBlock) { expectAgreement(test::drilledBlockPart(), 3000, 5e-3); }
 TEST(ExactPenetration, AgreesWithReferenceOnLoft) { expectAgreement(test::loftPart(), 1000, 5e-3); }
+
+// Every kind of surface and curve OCCT has, each checked to be in the part it is meant for.
+TEST(ExactPenetration, AgreesOnASurfaceOfRevolution) {
+  const auto part = test::revolvedSplinePart();
+  ASSERT_GT(test::surfaceTypes(*part)[GeomAbs_SurfaceOfRevolution], 0);
+  expectAgreement(part, 1500, 5e-3);
+}
+
+TEST(ExactPenetration, AgreesOnASurfaceOfExtrusion) {
+  const auto part = test::extrudedSplinePart();
+  ASSERT_GT(test::surfaceTypes(*part)[GeomAbs_SurfaceOfExtrusion], 0);
+  ASSERT_GT(test::curveTypes(*part)[GeomAbs_BSplineCurve], 0);
+  expectAgreement(part, 1500, 5e-3);
+}
+
+TEST(ExactPenetration, AgreesOnAConeWithItsApex) {
+  const auto part = test::conePart();
+  ASSERT_GT(test::surfaceTypes(*part)[GeomAbs_Cone], 0);
+  expectAgreement(part, 1500, 8e-3);
+  // Beyond the apex along the axis, the apex (a vertex) is the foot.
+  const auto exact = makeExactPenetration(part);
+  QueryState s;
+  const Penetration p = exact->query(Vec3(0, 0, 0.023), s);
+  EXPECT_FALSE(p.inside);
+  EXPECT_NEAR(p.depth, -0.003, 1e-12);
+}
+
+TEST(ExactPenetration, AgreesOnRingAndAppleTori) {
+  for (const auto& [major, minor] : {std::pair{30.0, 8.0}, {5.0, 8.0}}) {
+    const auto part = test::torusPart(major, minor);
+    ASSERT_GT(test::surfaceTypes(*part)[GeomAbs_Torus], 0);
+    expectAgreement(part, 1500, 5e-3);
+  }
+}
+
+TEST(ExactPenetration, AgreesOnBezierSurfacesAndCurves) {
+  const auto part = test::bezierPart();
+  ASSERT_GT(test::surfaceTypes(*part)[GeomAbs_BezierSurface], 0);
+  ASSERT_GT(test::curveTypes(*part)[GeomAbs_BezierCurve], 0);
+  expectAgreement(part, 1500, 5e-3);
+}
+
+TEST(ExactPenetration, AgreesOnARectangularTrimmedSurface) {
+  const auto part = test::trimmedSurfacePart();
+  bool trimmed = false;
+  for (int i = 1; i <= part->faces().Extent(); ++i)
+    trimmed |= BRep_Tool::Surface(TopoDS::Face(part->faces()(i)))->IsKind(STANDARD_TYPE(Geom_RectangularTrimmedSurface));
+  ASSERT_TRUE(trimmed);
+  expectAgreement(part, 1500, 5e-3);
+}
+
+TEST(ExactPenetration, AgreesOnOffsetSurfaces) {
+  const auto part = test::offsetLoftPart();
+  ASSERT_GT(test::surfaceTypes(*part)[GeomAbs_OffsetSurface], 0);
+  expectAgreement(part, 1000, 5e-3);
+}
+
+TEST(ExactPenetration, AgreesOnOffsetAndBezierCurves) {
+  const auto part = test::offsetCurvePart();
+  ASSERT_GT(test::curveTypes(*part)[GeomAbs_OffsetCurve], 0);
+  expectAgreement(part, 1500, 4e-3);
+}
+
+TEST(ExactPenetration, AgreesOnEllipseHyperbolaAndParabolaEdges) {
+  const auto part = test::conicSectionsPart();
+  auto curves = test::curveTypes(*part);
+  ASSERT_GT(curves[GeomAbs_Ellipse], 0);
+  ASSERT_GT(curves[GeomAbs_Hyperbola], 0);
+  ASSERT_GT(curves[GeomAbs_Parabola], 0);
+  expectAgreement(part, 2000, 5e-3);
+}
+
+// One part of two solids that touch face to face: inside either is inside, also right at
+// the face they share, where each solid's own face says "outside" of the other.
+TEST(ExactPenetration, SolidsThatTouchAreOnePart) {
+  const auto part = test::touchingBoxesPart();
+  expectAgreement(part, 1500, 5e-3);
+  const auto exact = makeExactPenetration(part);
+  QueryState s;
+  for (const double x : {0.0399, 0.0401}) {
+    const Penetration p = exact->query(Vec3(x, 0.015, 0.01), s);
+    EXPECT_TRUE(p.inside) << x;
+    EXPECT_NEAR(p.depth, 1e-4, 1e-12) << x;
+  }
+}
+
+// Deep inside a slab under a wavy B-spline face, points lie beyond the focal points of
+// its dips: the exhaustive search answers there, is counted, and agrees.
+TEST(ExactPenetration, FocalPointsAreSearchedExhaustivelyAndCounted) {
+  const auto part = test::trimmedSurfacePart();
+  const auto reference = makeReferencePenetration(part);
+  const auto exact = makeExactPenetration(part);
+  int fallbacks = 0, count = 0;
+  for (const Vec3& x : test::shellPoints(*part, 600, 12e-3, 5)) {
+    QueryState se, sr;
+    const Penetration e = exact->query(x, se), r = reference->query(x, sr);
+    fallbacks += e.fallbacks > 0;
+    EXPECT_TRUE(e.certain) << x.transpose();
+    EXPECT_NEAR(e.depth, r.depth, 1e-9) << x.transpose();
+    ++count;
+  }
+  EXPECT_GT(fallbacks, 0);
+  EXPECT_LT(fallbacks, count / 2);
+}
 
 TEST(ExactPenetration, WarmStartedPathAgreesWithReference) {
   // A fingertip moving 0.05 mm per tick around the loft, 1 mm inside, crossing the seam.

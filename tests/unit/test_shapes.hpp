@@ -15,6 +15,32 @@
 #include <gp_Circ.hxx>
 #include <gp_Elips.hxx>
 
+#include <BRepAlgoAPI_Common.hxx>
+#include <BRepAlgoAPI_Fuse.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakePolygon.hxx>
+#include <BRepBuilderAPI_Transform.hxx>
+#include <BRepOffsetAPI_MakeOffsetShape.hxx>
+#include <BRepPrimAPI_MakeCone.hxx>
+#include <BRepPrimAPI_MakePrism.hxx>
+#include <BRepPrimAPI_MakeRevol.hxx>
+#include <BRepPrimAPI_MakeTorus.hxx>
+#include <BRep_Builder.hxx>
+#include <BRepAdaptor_Surface.hxx>
+#include <GeomAPI_Interpolate.hxx>
+#include <GeomAPI_PointsToBSplineSurface.hxx>
+#include <Geom_BezierCurve.hxx>
+#include <Geom_BezierSurface.hxx>
+#include <Geom_BSplineCurve.hxx>
+#include <Geom_BSplineSurface.hxx>
+#include <Geom_OffsetCurve.hxx>
+#include <Geom_RectangularTrimmedSurface.hxx>
+#include <TColgp_Array1OfPnt.hxx>
+#include <TColgp_Array2OfPnt.hxx>
+#include <TColgp_HArray1OfPnt.hxx>
+#include <TopoDS_Compound.hxx>
+
+#include <map>
 #include <random>
 #include <string>
 
@@ -67,6 +93,155 @@ inline PartModelPtr loftPart() {
   }
   loft.Build();
   return PartModel::fromShape(loft.Shape(), LengthUnit::Millimetre, "loft");
+}
+
+// --- Parts with faces on every kind of surface and edges on every kind of curve ---------
+
+inline PartModelPtr part(const TopoDS_Shape& shape, const std::string& name) {
+  return PartModel::fromShape(shape, LengthUnit::Millimetre, name);
+}
+
+// How many faces of each surface type, and edges of each curve type, a part has.
+inline std::map<GeomAbs_SurfaceType, int> surfaceTypes(const PartModel& p) {
+  std::map<GeomAbs_SurfaceType, int> types;
+  for (int i = 1; i <= p.faces().Extent(); ++i) ++types[BRepAdaptor_Surface(TopoDS::Face(p.faces()(i))).GetType()];
+  return types;
+}
+inline std::map<GeomAbs_CurveType, int> curveTypes(const PartModel& p) {
+  std::map<GeomAbs_CurveType, int> types;
+  for (int i = 1; i <= p.edges().Extent(); ++i)
+    if (!BRep_Tool::Degenerated(TopoDS::Edge(p.edges()(i)))) ++types[BRepAdaptor_Curve(TopoDS::Edge(p.edges()(i))).GetType()];
+  return types;
+}
+
+inline Handle(Geom_BSplineCurve) interpolate(const std::vector<gp_Pnt>& points, bool periodic = false) {
+  Handle(TColgp_HArray1OfPnt) array = new TColgp_HArray1OfPnt(1, static_cast<int>(points.size()));
+  for (std::size_t i = 0; i < points.size(); ++i) array->SetValue(static_cast<int>(i) + 1, points[i]);
+  GeomAPI_Interpolate interpolation(array, periodic, 1e-9);
+  interpolation.Perform();
+  return interpolation.Curve();
+}
+
+inline TopoDS_Wire wireOf(std::initializer_list<TopoDS_Edge> edges) {
+  BRepBuilderAPI_MakeWire wire;
+  for (const TopoDS_Edge& e : edges) wire.Add(e);
+  return wire.Wire();
+}
+
+// A vase: a B-spline profile revolved about z (a face on a surface of revolution) between
+// two planar discs.
+inline PartModelPtr revolvedSplinePart() {
+  const Handle(Geom_BSplineCurve) profile =
+      interpolate({gp_Pnt(20, 0, 0), gp_Pnt(27, 0, 12), gp_Pnt(16, 0, 26), gp_Pnt(22, 0, 40)});
+  const TopoDS_Wire wire = wireOf({BRepBuilderAPI_MakeEdge(profile).Edge(),
+                                   BRepBuilderAPI_MakeEdge(gp_Pnt(22, 0, 40), gp_Pnt(0, 0, 40)).Edge(),
+                                   BRepBuilderAPI_MakeEdge(gp_Pnt(0, 0, 40), gp_Pnt(0, 0, 0)).Edge(),
+                                   BRepBuilderAPI_MakeEdge(gp_Pnt(0, 0, 0), gp_Pnt(20, 0, 0)).Edge()});
+  const TopoDS_Face face = BRepBuilderAPI_MakeFace(wire, true).Face();
+  return part(BRepPrimAPI_MakeRevol(face, gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1))).Shape(), "vase");
+}
+
+// A cam: a closed B-spline extruded along z (a face on a surface of linear extrusion).
+inline PartModelPtr extrudedSplinePart() {
+  std::vector<gp_Pnt> points;
+  for (int k = 0; k < 8; ++k) {
+    const double a = 2 * M_PI * k / 8, r = 20 + 6 * std::cos(2 * a) + 3 * std::sin(3 * a);
+    points.emplace_back(r * std::cos(a), r * std::sin(a), 0);
+  }
+  const TopoDS_Edge edge = BRepBuilderAPI_MakeEdge(interpolate(points, true)).Edge();
+  const TopoDS_Face face = BRepBuilderAPI_MakeFace(BRepBuilderAPI_MakeWire(edge).Wire(), true).Face();
+  return part(BRepPrimAPI_MakePrism(face, gp_Vec(0, 0, 25)).Shape(), "cam");
+}
+
+// A cone with its apex (and a degenerated edge there).
+inline PartModelPtr conePart() {
+  return part(BRepPrimAPI_MakeCone(gp_Ax2(gp_Pnt(0, 0, -20), gp_Dir(0, 0, 1)), 25, 0, 40).Shape(), "cone");
+}
+
+inline PartModelPtr torusPart(double major, double minor) {
+  return part(BRepPrimAPI_MakeTorus(gp_Ax2(), major, minor).Shape(), "torus");
+}
+
+// A slab whose bottom and top are a Bézier patch, its sides extrusions of Bézier curves.
+inline PartModelPtr bezierPart() {
+  TColgp_Array2OfPnt poles(1, 3, 1, 3);
+  for (int i = 1; i <= 3; ++i)
+    for (int j = 1; j <= 3; ++j) poles(i, j) = gp_Pnt(20.0 * (i - 2), 20.0 * (j - 2), (i == 2 && j == 2) ? 12 : 3.0 * (i - j));
+  const TopoDS_Face face = BRepBuilderAPI_MakeFace(new Geom_BezierSurface(poles), 1e-7).Face();
+  return part(BRepPrimAPI_MakePrism(face, gp_Vec(0, 0, 8)).Shape(), "bezier slab");
+}
+
+// A block of a rectangular trim of a wavy B-spline surface, extruded down.
+inline PartModelPtr trimmedSurfacePart() {
+  TColgp_Array2OfPnt points(1, 7, 1, 7);
+  for (int i = 1; i <= 7; ++i)
+    for (int j = 1; j <= 7; ++j) {
+      const double x = 8.0 * (i - 4), y = 8.0 * (j - 4);
+      points(i, j) = gp_Pnt(x, y, 4 * std::sin(x / 9) * std::cos(y / 11));
+    }
+  const Handle(Geom_BSplineSurface) s = GeomAPI_PointsToBSplineSurface(points).Surface();
+  double u0, u1, v0, v1;
+  s->Bounds(u0, u1, v0, v1);
+  const Handle(Geom_Surface) trimmed =
+      new Geom_RectangularTrimmedSurface(s, u0 + 0.1 * (u1 - u0), u1 - 0.2 * (u1 - u0), v0 + 0.15 * (v1 - v0), v1);
+  const TopoDS_Face face = BRepBuilderAPI_MakeFace(trimmed, 1e-7).Face();
+  return part(BRepPrimAPI_MakePrism(face, gp_Vec(0, 0, -15)).Shape(), "trimmed wave");
+}
+
+// The loft grown by 2 mm: faces on offset surfaces.
+inline PartModelPtr offsetLoftPart() {
+  BRepOffsetAPI_MakeOffsetShape offset;
+  offset.PerformBySimple(loftPart()->shape(), 2.0);
+  return part(offset.Shape(), "offset loft");
+}
+
+// A plate whose one side is the offset of a B-spline (an edge on an offset curve, and a
+// face on its extrusion), and whose top is cut by a Bézier curve.
+inline PartModelPtr offsetCurvePart() {
+  const Handle(Geom_BSplineCurve) wave = interpolate({gp_Pnt(0, 0, 0), gp_Pnt(10, 4, 0), gp_Pnt(20, -3, 0), gp_Pnt(30, 2, 0)});
+  const Handle(Geom_Curve) side = new Geom_OffsetCurve(wave, -5, gp_Dir(0, 0, 1));
+  const gp_Pnt a = side->Value(side->FirstParameter()), b = side->Value(side->LastParameter());
+  TColgp_Array1OfPnt bezierPoles(1, 4);
+  bezierPoles(1) = b;
+  bezierPoles(2) = gp_Pnt(b.X() + 2, b.Y() + 12, 0);
+  bezierPoles(3) = gp_Pnt(a.X() - 2, a.Y() + 16, 0);
+  bezierPoles(4) = a;
+  const TopoDS_Wire wire = wireOf({BRepBuilderAPI_MakeEdge(side).Edge(),
+                                   BRepBuilderAPI_MakeEdge(new Geom_BezierCurve(bezierPoles)).Edge()});
+  const TopoDS_Face face = BRepBuilderAPI_MakeFace(wire, true).Face();
+  return part(BRepPrimAPI_MakePrism(face, gp_Vec(0, 0, 6)).Shape(), "offset curve plate");
+}
+
+// Conic sections as edges: a cylinder cut by a tilted plane (an ellipse), a cone cut by a
+// plane parallel to its axis (a hyperbola) and by one parallel to a generatrix (a parabola).
+inline PartModelPtr conicSectionsPart() {
+  const TopoDS_Shape cylinder = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), 10, 40).Shape();
+  gp_Trsf tilt;
+  tilt.SetRotation(gp_Ax1(gp_Pnt(0, 0, 30), gp_Dir(1, 0, 0)), 0.5);
+  const TopoDS_Shape below = BRepBuilderAPI_Transform(BRepPrimAPI_MakeBox(gp_Pnt(-50, -50, -20), 100, 100, 50).Shape(), tilt).Shape();
+  const TopoDS_Shape ellipse = BRepAlgoAPI_Common(cylinder, below).Shape();
+  // A cone (apex up at z = 60, half angle atan(15/20)), its side cut by the plane x = 5
+  // (a hyperbola) and, on the other side, by a plane parallel to a generatrix (a parabola).
+  const TopoDS_Shape cone = BRepPrimAPI_MakeCone(gp_Ax2(gp_Pnt(0, 0, 40), gp_Dir(0, 0, 1)), 15, 0, 20).Shape();
+  const TopoDS_Shape halfX = BRepPrimAPI_MakeBox(gp_Pnt(-50, -50, 35), 55, 100, 30).Shape();
+  gp_Trsf lean;
+  lean.SetRotation(gp_Ax1(gp_Pnt(-6, 0, 52), gp_Dir(0, 1, 0)), -std::atan2(15.0, 20.0));
+  const TopoDS_Shape parabolic =
+      BRepBuilderAPI_Transform(BRepPrimAPI_MakeBox(gp_Pnt(-6, -50, 20), 100, 100, 100).Shape(), lean).Shape();
+  const TopoDS_Shape cut = BRepAlgoAPI_Common(BRepAlgoAPI_Common(cone, halfX).Shape(), parabolic).Shape();
+  return part(BRepAlgoAPI_Fuse(ellipse, cut).Shape(), "conic sections");
+}
+
+// Two boxes touching face to face, as one part (a weldment).
+inline PartModelPtr touchingBoxesPart() {
+  TopoDS_Compound compound;
+  BRep_Builder builder;
+  builder.MakeCompound(compound);
+  builder.Add(compound, BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 40, 30, 20).Shape());
+  builder.Add(compound, BRepPrimAPI_MakeBox(gp_Pnt(40, 5, 0), 20, 20, 20).Shape());
+  PartModel::LoadOptions options;
+  options.checkSelfIntersection = false;  // the loader of this build calls touching solids intersecting
+  return PartModel::fromShape(compound, LengthUnit::Millimetre, "weldment", options);
 }
 
 // Points in a shell of +/- `shell_m` around the surface (area-weighted surface points
