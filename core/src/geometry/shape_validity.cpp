@@ -327,11 +327,21 @@ std::optional<ValidityProblem> firstValidityProblem(const TopoDS_Shape& shape) {
 }
 
 std::string describe(const ValidityProblem& problem, const TopoDS_Shape& numbering) {
+  TopoDS_Shape context = problem.context;
+  if (context.IsNull() && problem.shape.ShapeType() == TopAbs_WIRE) {
+    // BRepCheck records a wire's own faults on the wire: name the face it bounds.
+    for (TopExp_Explorer f(numbering, TopAbs_FACE); f.More() && context.IsNull(); f.Next())
+      for (TopoDS_Iterator w(f.Current()); w.More(); w.Next())
+        if (w.Value().IsSame(problem.shape)) {
+          context = f.Current();
+          break;
+        }
+  }
+  if (problem.status == BRepCheck_SelfIntersectingWire && !context.IsNull())
+    return "self-intersecting wire in " + subShapeName(numbering, context);
   const std::string where = subShapeName(numbering, problem.shape);
-  if (problem.context.IsNull()) return where + ": " + statusName(problem.status);
-  const std::string context = subShapeName(numbering, problem.context);
-  if (problem.status == BRepCheck_SelfIntersectingWire) return "self-intersecting wire in " + context;
-  return where + " in " + context + ": " + statusName(problem.status);
+  if (context.IsNull()) return where + ": " + statusName(problem.status);
+  return where + " in " + subShapeName(numbering, context) + ": " + statusName(problem.status);
 }
 
 }  // namespace hg::geometry
