@@ -23,6 +23,7 @@
 #include <TopoDS_Compound.hxx>
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Vertex.hxx>
+#include <gp_Lin.hxx>
 #include <gp_Pln.hxx>
 
 #include <algorithm>
@@ -269,8 +270,8 @@ struct Candidate {
   std::array<std::optional<gp_XY>, 2> uv;
 };
 
-// A planar face as its boundary polylines: in space (to pierce other planes with) and in the
-// plane's (u, v), which are lengths (to classify points with). A point nearer the boundary
+// A planar face as its boundary polylines in the plane's (u, v), which are lengths: to
+// classify points, and to find where a line runs inside the face. A point nearer the boundary
 // than the polylines' deflection plus a margin is "near": no classification is trusted
 // there, and it is where faces touch (a bolt in its hole) rather than cross.
 class PlanarRegion {
@@ -281,7 +282,7 @@ class PlanarRegion {
     for (TopExp_Explorer ex(face, TopAbs_EDGE); ex.More(); ex.Next()) {
       const TopoDS_Edge& edge = TopoDS::Edge(ex.Current());
       if (BRep_Tool::Degenerated(edge)) continue;
-      std::vector<gp_XYZ>& line = polylines_.emplace_back();
+      std::vector<gp_XYZ> line;
       const BRepAdaptor_Curve curve(edge);
       if (curve.GetType() == GeomAbs_Line) {
         line = {curve.Value(curve.FirstParameter()).XYZ(), curve.Value(curve.LastParameter()).XYZ()};
@@ -300,7 +301,27 @@ class PlanarRegion {
     }
   }
 
-  const std::vector<std::vector<gp_XYZ>>& polylines() const { return polylines_; }
+  // Where a line of the plane runs inside the face, as parameter intervals along it, each
+  // shortened at both ends by the boundary band (what remains is clear of the boundary).
+  std::vector<std::pair<double, double>> spansAlong(const gp_Lin& line, double margin) const {
+    const gp_XY o = uvOf(line.Location().XYZ());
+    const gp_XY d = uvOf(line.Location().XYZ() + line.Direction().XYZ()) - o;  // unit: the plane's (u, v) are lengths
+    std::vector<double> crossings;
+    for (const Flat& flat : flats_)
+      for (std::size_t k = 0; k + 1 < flat.points.size(); ++k) {
+        const gp_XY a = flat.points[k] - o, b = flat.points[k + 1] - o;
+        const double sa = d.Crossed(a), sb = d.Crossed(b);  // sides of the line, >= 0 counted as one side
+        if ((sa >= 0) == (sb >= 0)) continue;
+        const gp_XY x = a + (b - a) * (sa / (sa - sb));
+        crossings.push_back(x.Dot(d));
+      }
+    std::sort(crossings.begin(), crossings.end());
+    std::vector<std::pair<double, double>> spans;
+    const double band = deflection_ + margin;
+    for (std::size_t k = 0; k + 1 < crossings.size(); k += 2)
+      if (crossings[k + 1] - crossings[k] > 2 * band) spans.emplace_back(crossings[k] + band, crossings[k + 1] - band);
+    return spans;
+  }
 
   // Ray casting along +u over every edge's polyline (the edges close into loops); the
   // polylines whose boxes hold the point tell whether it is near the boundary.
@@ -343,7 +364,6 @@ class PlanarRegion {
 
   gp_Pln plane_;
   double deflection_;
-  std::vector<std::vector<gp_XYZ>> polylines_;
   std::vector<Flat> flats_;
 };
 
@@ -488,8 +508,7 @@ class CrossingFinder {
     } else if (q.triangle >= 0) {
       triangleThroughPlane(triangles_[q.triangle], p.face);
     } else {
-      edgesThroughPlane(p.face, q.face);
-      edgesThroughPlane(q.face, p.face);
+      planesCross(p.face, q.face);
     }
   }
 
@@ -511,21 +530,32 @@ class CrossingFinder {
     }
   }
 
-  // An edge of planar face `a` that pierces planar face `b` inside it.
-  void edgesThroughPlane(int a, int b) {
-    const gp_Dir& na = faces_[a].plane.Axis().Direction();
-    const gp_Dir& nb = faces_[b].plane.Axis().Direction();
-    if (na.XYZ().Crossed(nb.XYZ()).Modulus() < kMinSine) return;  // parallel planes only touch
-    const gp_XYZ n = nb.XYZ(), o = faces_[b].plane.Location().XYZ();
-    const double eps = epsilon(a, b);
-    for (const std::vector<gp_XYZ>& polyline : region(a).polylines()) {
-      for (std::size_t k = 0; k + 1 < polyline.size(); ++k) {
-        const double d0 = (polyline[k] - o).Dot(n), d1 = (polyline[k + 1] - o).Dot(n);
-        if (!((d0 > eps && d1 < -eps) || (d0 < -eps && d1 > eps))) continue;
-        const gp_XYZ x = polyline[k] + (polyline[k + 1] - polyline[k]) * (d0 / (d0 - d1));
-        if (region(b).classify(x, margin(a, b)) == PlanarRegion::Where::In) addCandidate(a, b, Candidate{x, {}});
+  // Two planar faces cross where the line their planes meet in runs inside both: the spans
+  // of the line inside each face overlap by more than their boundaries' band. (An edge of
+  // one piercing the other starts such an overlap; so do two faces crossed like an X, whose
+  // crossing ends on the edges of both.)
+  void planesCross(int a, int b) {
+    const gp_Pln& pa = faces_[a].plane;
+    const gp_Pln& pb = faces_[b].plane;
+    const gp_XYZ na = pa.Axis().Direction().XYZ(), nb = pb.Axis().Direction().XYZ();
+    const gp_XYZ along = na.Crossed(nb);
+    if (along.Modulus() < kMinSine) return;  // parallel planes only touch
+    // The point of the line nearest a's origin: on both planes.
+    const gp_XYZ oa = pa.Location().XYZ(), ob = pb.Location().XYZ();
+    const double c = na.Dot(nb), det = 1 - c * c;
+    const double ra = na.Dot(oa), rb = nb.Dot(ob);
+    const gp_XYZ origin = na * ((ra - c * rb) / det) + nb * ((rb - c * ra) / det);
+    const gp_Lin line{gp_Pnt(origin), gp_Dir(along)};
+    const double m = margin(a, b);
+    const auto spansA = region(a).spansAlong(line, m), spansB = region(b).spansAlong(line, m);
+    for (const auto& [a0, a1] : spansA)
+      for (const auto& [b0, b1] : spansB) {
+        const double lo = std::max(a0, b0), hi = std::min(a1, b1);
+        if (!(hi - lo > 0)) continue;
+        const gp_XYZ x = (line.Location().XYZ() + line.Direction().XYZ() * ((lo + hi) / 2));
+        if (region(a).classify(x, m) == PlanarRegion::Where::In && region(b).classify(x, m) == PlanarRegion::Where::In)
+          addCandidate(a, b, Candidate{x, {}});
       }
-    }
   }
 
   const PlanarRegion& region(int planar) {

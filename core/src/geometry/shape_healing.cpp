@@ -3,6 +3,7 @@
 #include <BRepBuilderAPI_MakeSolid.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
 #include <BRep_Builder.hxx>
+#include <ShapeExtend_Status.hxx>
 #include <ShapeFix_Shape.hxx>
 #include <ShapeFix_Wire.hxx>
 #include <Standard_Failure.hxx>
@@ -28,7 +29,7 @@ TopoDS_Shape healWithShapeFix(const TopoDS_Shape& shape, double precision, doubl
     wires->FixNonAdjacentIntersectingEdgesMode() = 1;
     fix.Perform();
     const TopoDS_Shape healed = fix.Shape();
-    return healed.IsNull() ? shape : healed;
+    return healed.IsNull() || !fix.Status(ShapeExtend_DONE) ? shape : healed;
   } catch (const Standard_Failure&) {
     return shape;
   }

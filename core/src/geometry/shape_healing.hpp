@@ -8,7 +8,7 @@ namespace hg::geometry {
 
 // ShapeFix_Shape as FreeCAD's Part fix() runs it, with every wire fix on (self-intersecting
 // and intersecting edges, adjacent or not): tolerances may grow up to maxTolerance (shape
-// units). Returns the input unchanged when ShapeFix fails.
+// units). Returns the input itself when ShapeFix fails or finds nothing to do.
 TopoDS_Shape healWithShapeFix(const TopoDS_Shape& shape, double precision, double maxTolerance);
 
 // BRepBuilderAPI_Sewing of all the faces of `shape` within `tolerance` (shape units): the
