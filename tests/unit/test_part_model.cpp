@@ -92,14 +92,6 @@ TopoDS_Shape scaled(const TopoDS_Shape& shape, double factor) {
   return transformed(shape, trsf);
 }
 
-TopoDS_Compound compoundOf(std::initializer_list<TopoDS_Shape> shapes) {
-  TopoDS_Compound compound;
-  BRep_Builder builder;
-  builder.MakeCompound(compound);
-  for (const TopoDS_Shape& s : shapes) builder.Add(compound, s);
-  return compound;
-}
-
 // A scratch directory for the files the tests write, removed at exit.
 class TempDir {
  public:
@@ -335,7 +327,7 @@ TEST(PartModelCompounds, TouchingBoxesLoadWithoutAnOverlap) {
   const TopoDS_Shape b = BRepPrimAPI_MakeBox(gp_Pnt(10, 0, 0), 10, 10, 10).Shape();   // a face against a's
   const TopoDS_Shape c = BRepPrimAPI_MakeBox(gp_Pnt(2, 2, 10), 5, 5, 5).Shape();      // on a's top
   const TopoDS_Shape d = BRepPrimAPI_MakeBox(gp_Pnt(20, 10, 0), 5, 5, 5).Shape();     // along b's edge
-  const PartModelPtr part = PartModel::fromShape(compoundOf({a, b, c, d}), LengthUnit::Millimetre, "touching");
+  const PartModelPtr part = PartModel::fromShape(test::compoundOf({a, b, c, d}), LengthUnit::Millimetre, "touching");
   EXPECT_TRUE(part->warnings().empty()) << part->warnings()[0];
   EXPECT_EQ(part->backendChoice().backend, Backend::Exact);
   EXPECT_EQ(part->backendChoice().reason, "exact: valid B-rep");
@@ -345,7 +337,7 @@ TEST(PartModelCompounds, TouchingBoxesLoadWithoutAnOverlap) {
 TEST(PartModelCompounds, OverlappingBoxesLoadWithTheirOverlap) {
   const TopoDS_Shape a = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 10).Shape();
   const TopoDS_Shape b = BRepPrimAPI_MakeBox(gp_Pnt(5, 5, 5), 10, 10, 10).Shape();
-  const PartModelPtr part = PartModel::fromShape(compoundOf({a, b}), LengthUnit::Millimetre);
+  const PartModelPtr part = PartModel::fromShape(test::compoundOf({a, b}), LengthUnit::Millimetre);
   const std::string warning = overlapWarning(*part);
   EXPECT_THAT(warning, HasSubstr("solids 1 and 2 overlap by 125 mm^3"));
   EXPECT_THAT(warning, HasSubstr("6.25 % of the part's volume"));  // 125 of 2000
@@ -359,47 +351,25 @@ TEST(PartModelCompounds, ABoxInsideABoxOverlapsByAllOfIt) {
   // Boundaries apart: only a containment test finds it.
   const TopoDS_Shape outer = boxShape(20, 20, 20);
   const TopoDS_Shape inner = boxShape(2, 2, 2);
-  for (const TopoDS_Shape& shape : {compoundOf({outer, inner}), compoundOf({inner, outer}),
-                                    compoundOf({outer.Reversed(), inner})}) {  // turned before the test
+  for (const TopoDS_Shape& shape : {test::compoundOf({outer, inner}), test::compoundOf({inner, outer}),
+                                    test::compoundOf({outer.Reversed(), inner})}) {  // turned before the test
     const PartModelPtr part = PartModel::fromShape(shape, LengthUnit::Millimetre);
     EXPECT_NEAR(overlapVolume_mm3(overlapWarning(*part)), 8, 1e-9) << overlapWarning(*part);
   }
 }
 
-// A sphere poking through the top of a slab: the faces meet in a circle inside both, and
-// no edge of either crosses the other (the sphere's seam and poles stay below the slab's
-// top face).
-TopoDS_Shape sphereThroughSlab() {
-  const TopoDS_Shape sphere = BRepPrimAPI_MakeSphere(gp_Ax2(gp::Origin(), gp::DX(), -gp::DY()), 5).Shape();
-  const TopoDS_Shape slab = BRepPrimAPI_MakeBox(gp_Pnt(-20, -20, -20), 40, 40, 23).Shape();
-  return compoundOf({sphere, slab});
-}
-
 TEST(PartModelCompounds, FacesCrossingInAClosedLoopBetweenSolids) {
-  const PartModelPtr part = PartModel::fromShape(sphereThroughSlab(), LengthUnit::Millimetre);
+  const PartModelPtr part = PartModel::fromShape(test::sphereThroughSlab(), LengthUnit::Millimetre);
   // The sphere (r = 5) below the slab's top (z = 3): all of it but a cap of height 2.
   const double r = 5, h = 2;
   const double expected = 4 * kPi * r * r * r / 3 - kPi * h * h * (3 * r - h) / 3;
   EXPECT_NEAR(overlapVolume_mm3(overlapWarning(*part)), expected, 1e-3 * expected) << overlapWarning(*part);
 }
 
-// A bolt through a hexagonal nut whose hole has the bolt's radius: coincident cylinders.
-TopoDS_Shape boltInNut(double boltRadius) {
-  BRepBuilderAPI_MakePolygon hexagon;
-  for (int k = 0; k < 6; ++k) hexagon.Add(gp_Pnt(8 * std::cos(k * kPi / 3), 8 * std::sin(k * kPi / 3), 0));
-  hexagon.Close();
-  const TopoDS_Shape prism =
-      BRepPrimAPI_MakePrism(BRepBuilderAPI_MakeFace(hexagon.Wire()).Face(), gp_Vec(0, 0, 6)).Shape();
-  const TopoDS_Shape hole = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, -1), gp::DZ()), 4, 8).Shape();
-  const TopoDS_Shape nut = BRepAlgoAPI_Cut(prism, hole).Shape();
-  const TopoDS_Shape bolt = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, -10), gp::DZ()), boltRadius, 30).Shape();
-  return compoundOf({bolt, nut});
-}
-
 TEST(PartModelCompounds, ABoltInItsNutTouchesAndAFatOneOverlaps) {
-  const PartModelPtr fits = PartModel::fromShape(boltInNut(4), LengthUnit::Millimetre, "fits");
+  const PartModelPtr fits = PartModel::fromShape(test::boltInNut(4), LengthUnit::Millimetre, "fits");
   EXPECT_TRUE(fits->warnings().empty()) << fits->warnings()[0];
-  const PartModelPtr fat = PartModel::fromShape(boltInNut(4.5), LengthUnit::Millimetre, "fat");
+  const PartModelPtr fat = PartModel::fromShape(test::boltInNut(4.5), LengthUnit::Millimetre, "fat");
   const double expected = kPi * (4.5 * 4.5 - 4 * 4) * 6;  // the ring the nut and the bolt share
   EXPECT_NEAR(overlapVolume_mm3(overlapWarning(*fat)), expected, 1e-3 * expected) << overlapWarning(*fat);
 }
@@ -426,7 +396,7 @@ TEST(PartModelCompounds, CrossingSearchCanBeSkipped) {
   options.checkSelfIntersection = false;
   const TopoDS_Shape a = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 10).Shape();
   const TopoDS_Shape b = BRepPrimAPI_MakeBox(gp_Pnt(5, 5, 5), 10, 10, 10).Shape();
-  const PartModelPtr part = PartModel::fromShape(compoundOf({a, b}), LengthUnit::Millimetre, "boxes", options);
+  const PartModelPtr part = PartModel::fromShape(test::compoundOf({a, b}), LengthUnit::Millimetre, "boxes", options);
   EXPECT_TRUE(part->warnings().empty());
   // The other checks still run.
   const TopoDS_Edge edge = BRepBuilderAPI_MakeEdge(gp_Pnt(0, 0, 0), gp_Pnt(10, 0, 0)).Edge();
@@ -436,6 +406,16 @@ TEST(PartModelCompounds, CrossingSearchCanBeSkipped) {
 // ---------------------------------------------------------------------------------------
 // Defects of one solid: tolerance-level findings are not defects; a real one is healed, or
 // answered by a back end that does not depend on it, and said in one line.
+
+TEST(PartModelDefects, AHelicalThreadOfBSplineFacesLoadsAsExact) {
+  // Three B-spline faces wound around each other: the pave-filler check this replaced took
+  // minutes on it, and its per-face self-intersection step could call such faces defective.
+  const PartModelPtr part = PartModel::fromShape(test::helicalThread(), LengthUnit::Millimetre, "thread");
+  EXPECT_EQ(part->faces().Extent(), 5);
+  EXPECT_EQ(part->backendChoice().reason, "exact: valid B-rep");
+  EXPECT_TRUE(part->warnings().empty());
+  std::printf("thread: load %.3f s (checks %.3f s)\n", part->loadTiming().total_s, part->loadTiming().check_s);
+}
 
 TEST(PartModelDefects, VerticesWithinTheirTolerancesLoadAsExact) {
   // A 0.5 mm thin plate whose vertices carry 0.3 mm tolerances, as STEP files from other
@@ -448,44 +428,11 @@ TEST(PartModelDefects, VerticesWithinTheirTolerancesLoadAsExact) {
   EXPECT_TRUE(part->warnings().empty());
 }
 
-// A square prism whose top is turned by `twist` against its bottom, the sides split into
-// planar triangles and sewn into one solid. Turned far enough, the sides cross each other.
-TopoDS_Shape twistedPrism(double twist) {
-  const int n = 4;
-  const double radius = 10, height = 3;
-  std::vector<gp_Pnt> bottom, top;
-  for (int i = 0; i < n; ++i) {
-    const double a = 2 * kPi * i / n;
-    bottom.emplace_back(radius * std::cos(a), radius * std::sin(a), 0);
-    top.emplace_back(radius * std::cos(a + twist), radius * std::sin(a + twist), height);
-  }
-  BRepBuilderAPI_Sewing sewing;
-  auto face = [&](BRepBuilderAPI_MakePolygon polygon) { sewing.Add(BRepBuilderAPI_MakeFace(polygon.Wire()).Face()); };
-  BRepBuilderAPI_MakePolygon bottomCap, topCap;
-  for (int i = n - 1; i >= 0; --i) bottomCap.Add(bottom[i]);
-  for (int i = 0; i < n; ++i) topCap.Add(top[i]);
-  bottomCap.Close();
-  topCap.Close();
-  face(bottomCap);
-  face(topCap);
-  for (int i = 0; i < n; ++i) {
-    const int j = (i + 1) % n;
-    face(BRepBuilderAPI_MakePolygon(bottom[i], bottom[j], top[j], true));
-    face(BRepBuilderAPI_MakePolygon(bottom[i], top[j], top[i], true));
-  }
-  sewing.Perform();
-  TopoDS_Solid solid;
-  BRep_Builder builder;
-  builder.MakeSolid(solid);
-  for (TopExp_Explorer ex(sewing.SewedShape(), TopAbs_SHELL); ex.More(); ex.Next()) builder.Add(solid, ex.Current());
-  return solid;
-}
-
 TEST(PartModelDefects, FacesCrossingWithinOneSolidGoToTheMesh) {
-  const PartModelPtr mild = PartModel::fromShape(twistedPrism(kPi / 3), LengthUnit::Millimetre);
+  const PartModelPtr mild = PartModel::fromShape(test::twistedPrism(kPi / 3), LengthUnit::Millimetre);
   EXPECT_EQ(mild->faces().Extent(), 10);
   EXPECT_EQ(mild->backendChoice().backend, Backend::Exact);
-  const PartModelPtr crossed = PartModel::fromShape(twistedPrism(kPi * 5 / 6), LengthUnit::Millimetre);
+  const PartModelPtr crossed = PartModel::fromShape(test::twistedPrism(kPi * 5 / 6), LengthUnit::Millimetre);
   EXPECT_EQ(crossed->backendChoice().backend, Backend::Mesh);
   EXPECT_THAT(crossed->backendChoice().reason, testing::MatchesRegex("mesh 0.01 mm: faces [0-9]+ and [0-9]+ cross .*"
                                                                      "\\(not healable\\); the exact back end would "
@@ -493,19 +440,8 @@ TEST(PartModelDefects, FacesCrossingWithinOneSolidGoToTheMesh) {
   EXPECT_EQ(makePenetration(crossed)->name(), "mesh");
 }
 
-// A prism whose outline loops over itself at one corner: its top and bottom wires cross
-// themselves (FreeCAD displays it; isValid() is false), two of its sides cross.
-TopoDS_Shape loopPrism() {
-  BRepBuilderAPI_MakePolygon outline;
-  for (const auto& [x, y] : {std::pair{10., 10.}, {0., 10.}, {0., 0.}, {-1., -1.}, {-1., 0.}, {0., -1.}, {10., -1.}})
-    outline.Add(gp_Pnt(x, y, 0));
-  outline.Close();
-  const TopoDS_Face face = BRepBuilderAPI_MakeFace(gp_Pln(gp::XOY()), outline.Wire(), true).Face();
-  return BRepPrimAPI_MakePrism(face, gp_Vec(0, 0, 5)).Shape();
-}
-
 TEST(PartModelDefects, ASelfIntersectingWireIsAnsweredByTheMesh) {
-  const PartModelPtr part = PartModel::fromShape(loopPrism(), LengthUnit::Millimetre, "loop");
+  const PartModelPtr part = PartModel::fromShape(test::loopPrism(), LengthUnit::Millimetre, "loop");
   const BackendChoice& choice = part->backendChoice();
   EXPECT_EQ(choice.backend, Backend::Mesh);
   EXPECT_THAT(choice.reason, testing::MatchesRegex("mesh 0.01 mm: self-intersecting wire in face [0-9]+ \\(not "
@@ -606,7 +542,7 @@ TEST(PartModelBadInput, InsideOutSolidTessellatesOutwards) {
 TEST(PartModelBadInput, InsideOutSolidInACompound) {
   const TopoDS_Shape a = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 10).Shape();
   const TopoDS_Shape b = BRepPrimAPI_MakeBox(gp_Pnt(20, 0, 0), 10, 10, 10).Shape().Reversed();
-  const PartModelPtr part = PartModel::fromShape(compoundOf({a, b}), LengthUnit::Millimetre);
+  const PartModelPtr part = PartModel::fromShape(test::compoundOf({a, b}), LengthUnit::Millimetre);
   ASSERT_EQ(part->warnings().size(), 1u);
   EXPECT_THAT(part->warnings()[0], HasSubstr("1 of 2 solids were inside out"));
   const MassProperties m = part->massProperties(MassSpec::density(1));
