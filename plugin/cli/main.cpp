@@ -30,9 +30,11 @@ int benchPenetration(const cli::LadderOptions& options, bool json) {
   return 0;
 }
 
-int partInfo(const std::string& name) {
+int partInfo(const std::string& name, bool serial) {
   const SamplePart sample = findPart(name);
-  const PartModelPtr part = PartModel::fromFile(sample.file, sample.unit);
+  PartModel::LoadOptions options;
+  options.parallel = !serial;
+  const PartModelPtr part = PartModel::fromFile(sample.file, sample.unit, options);
   const MassProperties m = part->massProperties(sample.mass);
   const Aabb b = part->bounds();
   std::printf("part %s (%s)\n", sample.name.c_str(), sample.file.c_str());
@@ -195,12 +197,14 @@ int main(int argc, char** argv) {
   std::string partName;
   CLI::App* info = parts->add_subcommand("info", "Topology, bounds, mass properties of a part, which back end answers it and why");
   info->add_option("part", partName, "Sample part name or .brep/.step file (mm)")->required();
+  bool serialLoad = false;
+  info->add_flag("--serial", serialLoad, "Check the part on one thread, as the FreeCAD workbench loads it");
 
   CLI11_PARSE(app, argc, argv);
   try {
     if (app.got_subcommand("demo")) return demo();
     if (penetration->parsed()) return benchPenetration(ladder, json);
-    if (info->parsed()) return partInfo(partName);
+    if (info->parsed()) return partInfo(partName, serialLoad);
     if (graspCylinderCmd->parsed()) return graspCylinder(rate_hz, json);
     if (shakeCmd->parsed()) return shake(json, shakePlot);
     if (servoBench->parsed()) return cli::benchServo(servoOptions, json);

@@ -40,13 +40,15 @@
 namespace hg::geometry {
 namespace {
 
-// The search mesh: coarse (1 % of the shape's size, and at most 0.5 rad per segment), since
-// every candidate is confirmed on the exact surfaces; finer meshes only cost time.
+// The search mesh: coarse (1 % of the shape's size, and at most 1 rad per segment), since
+// every candidate is confirmed on the exact surfaces; finer meshes only cost time (the
+// sample plate's 1024 holes: 0.23 s at 1 rad, 0.33 s at 0.5 rad).
 constexpr double kRelativeDeflection = 0.01;
-constexpr double kAngularDeflection = 0.5;
-// Planar faces' boundaries are discretized ten times finer: a point that near a boundary is
-// not classified.
+constexpr double kAngularDeflection = 1.0;
+// Planar faces' boundaries are discretized ten times finer, at most 0.5 rad per segment: a
+// point that near a boundary is not classified.
 constexpr double kBoundaryDeflection = 0.1;
+constexpr double kBoundaryAngle = 0.5;
 constexpr int kCandidatesPerPair = 6;
 constexpr int kMaxPairs = 200;
 // Surfaces that meet at less than ~1.1 degrees touch (coincident or tangent faces) rather
@@ -287,7 +289,7 @@ class PlanarRegion {
       if (curve.GetType() == GeomAbs_Line) {
         line = {curve.Value(curve.FirstParameter()).XYZ(), curve.Value(curve.LastParameter()).XYZ()};
       } else {
-        const GCPnts_TangentialDeflection points(curve, kAngularDeflection, deflection);
+        const GCPnts_TangentialDeflection points(curve, kBoundaryAngle, deflection);
         for (int k = 1; k <= points.NbPoints(); ++k) line.push_back(points.Value(k).XYZ());
       }
       Flat& flat = flats_.emplace_back();

@@ -17,6 +17,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <future>
+#include <optional>
 #include <set>
 #include <utility>
 #include <vector>
@@ -45,17 +47,29 @@ std::string facePairName(const TopoDS_Shape& numbering, const FaceCrossing& c) {
   return "faces " + std::to_string(faces.FindIndex(c.a)) + " and " + std::to_string(faces.FindIndex(c.b)) + " cross";
 }
 
+// The crossing search, or nothing if OCCT failed in it.
+std::optional<CrossingSearch> searchCrossings(const TopoDS_Shape& solids) {
+  try {
+    return findFaceCrossings(solids);
+  } catch (const Standard_Failure&) {
+    return std::nullopt;  // what the validity check finds stands
+  }
+}
+
+// The validity check and the crossing search read the shape and build their own data: with
+// `parallel`, they run side by side.
 Findings findDefects(const TopoDS_Shape& solids, const PartLoadOptions& options) {
   Findings found;
+  std::future<std::optional<CrossingSearch>> crossings;
+  if (options.checkSelfIntersection)
+    crossings = std::async(options.parallel ? std::launch::async : std::launch::deferred,
+                           [&solids] { return searchCrossings(solids); });
   if (const auto problem = firstValidityProblem(solids)) found.defect = describe(*problem, solids);
-  if (!options.checkSelfIntersection) return found;
-  CrossingSearch search;
-  try {
-    search = findFaceCrossings(solids);
-    found.searched = true;
-  } catch (const Standard_Failure&) {
-    return found;  // the search failed: what the validity check found stands
-  }
+  if (!crossings.valid()) return found;
+  const std::optional<CrossingSearch> result = crossings.get();
+  if (!result) return found;
+  const CrossingSearch& search = *result;
+  found.searched = true;
   found.unmeshed = static_cast<int>(search.unmeshed.size());
   int within = 0;
   const FaceCrossing* first = nullptr;

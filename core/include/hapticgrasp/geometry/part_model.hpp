@@ -32,12 +32,13 @@ struct PartLoadOptions {
   // Search for faces that truly cross, within one solid (a defect: the part goes to the mesh
   // back end unless ShapeFix heals it) and between the solids of a compound (their volumes
   // overlap: a warning with the overlapping volume). Tolerance-level contacts and touching
-  // solids are not crossings. Costs ~0.03 s for the 58-face sample block and ~0.3 s for the
-  // 1030-face plate (meshing its curved faces, coarsely). Turn it off only for shapes a CAD
-  // system has already validated: every other check still runs.
+  // solids are not crossings. Costs ~0.015 s for the 58-face sample block and ~0.35 s for
+  // the 1030-face plate (meshing its 1024 curved faces, coarsely). Turn it off only for
+  // shapes a CAD system has already validated: every other check still runs.
   bool checkSelfIntersection = true;
-  // Let OCCT use its thread pool where it helps. Turn off when loading beside threads that
-  // must keep their cores.
+  // Run the validity check and the crossing search side by side, on two threads (the sample
+  // plate: 0.45 s instead of 0.8 s). Turn off when loading beside threads that must keep
+  // their cores.
   bool parallel = true;
 };
 
