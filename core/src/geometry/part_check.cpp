@@ -39,6 +39,7 @@ struct Findings {
   std::set<std::pair<int, int>> crossingSolids;  // pairs of solids whose boundaries cross
   int unmeshed = 0;                            // faces the crossing search could not mesh
   bool searched = false;                       // the crossing search ran
+  bool truncated = false;                      // it confirmed only some of its candidates
 };
 
 std::string facePairName(const TopoDS_Shape& numbering, const FaceCrossing& c) {
@@ -64,12 +65,17 @@ Findings findDefects(const TopoDS_Shape& solids, const PartLoadOptions& options)
   if (options.checkSelfIntersection)
     crossings = std::async(options.parallel ? std::launch::async : std::launch::deferred,
                            [&solids] { return searchCrossings(solids); });
-  if (const auto problem = firstValidityProblem(solids)) found.defect = describe(*problem, solids);
+  try {
+    if (const auto problem = firstValidityProblem(solids)) found.defect = describe(*problem, solids);
+  } catch (const Standard_Failure& e) {
+    found.defect = std::string("BRepCheck failed on the shape (") + e.GetMessageString() + ")";
+  }
   if (!crossings.valid()) return found;
   const std::optional<CrossingSearch> result = crossings.get();
   if (!result) return found;
   const CrossingSearch& search = *result;
   found.searched = true;
+  found.truncated = search.truncated;
   found.unmeshed = static_cast<int>(search.unmeshed.size());
   int within = 0;
   const FaceCrossing* first = nullptr;
@@ -163,6 +169,18 @@ std::string overlapWarning(const std::vector<SolidOverlap>& overlaps, const Topo
          " in all: the mass properties count it twice (solids " + each + ")";
 }
 
+// "; the volume changed by 2.3 %" when healing changed it by more than 0.1 %, else "".
+std::string volumeChange(const TopoDS_Shape& before, const TopoDS_Shape& after) {
+  GProp_GProps a, b;
+  BRepGProp::VolumeProperties(before, a);
+  BRepGProp::VolumeProperties(after, b);
+  const double v0 = std::abs(a.Mass()), v1 = std::abs(b.Mass());
+  if (!(v0 > 0) || std::abs(v1 - v0) <= 1e-3 * v0) return "";
+  char text[48];
+  std::snprintf(text, sizeof text, "; the volume changed by %.2g %%", 100 * (v1 - v0) / v0);
+  return text;
+}
+
 BackendChoice robustBackend(const std::string& defect) {
 #ifdef HG_WITH_EMBREE
   return {Backend::Mesh, "mesh 0.01 mm: " + defect + " (not healable); the exact back end would answer wrongly there"};
@@ -193,7 +211,7 @@ PartCheck checkPart(const TopoDS_Shape& solids, const PartLoadOptions& options, 
                         (again = findDefects(healed, options)).defect.empty();
     // The choice's reason says what was healed, or what is wrong: not repeated as a warning.
     if (usable) {
-      out.choice = {Backend::Exact, "exact: healed by ShapeFix (" + found.defect + ")"};
+      out.choice = {Backend::Exact, "exact: healed by ShapeFix (" + found.defect + volumeChange(solids, healed) + ")"};
       out.solids = healed;
       found = again;
     } else {
@@ -203,6 +221,8 @@ PartCheck checkPart(const TopoDS_Shape& solids, const PartLoadOptions& options, 
   if (found.unmeshed > 0)
     out.warnings.push_back(std::to_string(found.unmeshed) + " face" + (found.unmeshed > 1 ? "s" : "") +
                            " could not be meshed and were not searched for crossings");
+  if (found.truncated)
+    out.warnings.push_back("the crossing search confirmed only its first candidates: faces may cross elsewhere");
   if (options.checkSelfIntersection) {
     const std::vector<SolidOverlap> overlaps = findSolidOverlaps(out.solids, found.crossingSolids);
     if (!overlaps.empty()) out.warnings.push_back(overlapWarning(overlaps, out.solids, metresPerUnit));
