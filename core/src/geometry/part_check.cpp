@@ -48,6 +48,22 @@ std::string facePairName(const TopoDS_Shape& numbering, const FaceCrossing& c) {
   return "faces " + std::to_string(faces.FindIndex(c.a)) + " and " + std::to_string(faces.FindIndex(c.b)) + " cross";
 }
 
+// BRepCheck's first problem among the solids, each distinct shape checked once wherever it
+// is placed (an assembly repeats its bolts and nuts), named where it first stands.
+std::optional<ValidityProblem> firstProblemOfEachShape(const TopoDS_Shape& solids) {
+  TopTools_MapOfShape seen;
+  for (TopExp_Explorer ex(solids, TopAbs_SOLID); ex.More(); ex.Next()) {
+    const TopLoc_Location& placed = ex.Current().Location();
+    if (!seen.Add(ex.Current().Located(TopLoc_Location()))) continue;
+    auto problem = firstValidityProblem(ex.Current().Located(TopLoc_Location()));
+    if (!problem) continue;
+    problem->shape.Move(placed);
+    if (!problem->context.IsNull()) problem->context.Move(placed);
+    return problem;
+  }
+  return std::nullopt;
+}
+
 // The crossing search, or nothing if OCCT failed in it.
 std::optional<CrossingSearch> searchCrossings(const TopoDS_Shape& solids) {
   try {
@@ -66,7 +82,7 @@ Findings findDefects(const TopoDS_Shape& solids, const PartLoadOptions& options)
     crossings = std::async(options.parallel ? std::launch::async : std::launch::deferred,
                            [&solids] { return searchCrossings(solids); });
   try {
-    if (const auto problem = firstValidityProblem(solids)) found.defect = describe(*problem, solids);
+    if (const auto problem = firstProblemOfEachShape(solids)) found.defect = describe(*problem, solids);
   } catch (const Standard_Failure& e) {
     found.defect = std::string("BRepCheck failed on the shape (") + e.GetMessageString() + ")";
   }
