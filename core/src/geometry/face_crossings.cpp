@@ -49,8 +49,12 @@ constexpr double kAngularDeflection = 1.0;
 // point that near a boundary is not classified.
 constexpr double kBoundaryDeflection = 0.1;
 constexpr double kBoundaryAngle = 0.5;
+// Bounds on the exact work: candidates kept per pair of faces, pairs of faces confirmed,
+// confirmations in all (each a few projections onto the surfaces; touching pairs such as a
+// bolt in its hole yield many candidates, each rejected at its first step).
 constexpr int kCandidatesPerPair = 6;
 constexpr int kMaxPairs = 200;
+constexpr int kMaxConfirmations = 500;
 // Surfaces that meet at less than ~1.1 degrees touch (coincident or tangent faces) rather
 // than cross.
 constexpr double kMinSine = 0.02;
@@ -696,10 +700,15 @@ class CrossingFinder {
       result_.truncated = true;
     }
     std::map<std::pair<int, int>, bool> solidsCross;
+    int confirmations = 0;
     for (const auto& [a, b] : pairs) {
       const int sa = faces_[a].solid, sb = faces_[b].solid;
       if (sa != sb && solidsCross[{std::min(sa, sb), std::max(sa, sb)}]) continue;
       for (const Candidate& c : candidates_[{a, b}]) {
+        if (++confirmations > kMaxConfirmations) {
+          result_.truncated = true;
+          return;
+        }
         std::optional<gp_Pnt> where;
         try {
           where = confirm(a, b, c);
