@@ -622,14 +622,14 @@ class PartReports(unittest.TestCase):
     def test_each_part_is_said_once_with_its_back_end_and_why(self):
         s = self.open_session()
         self.assertEqual(s.part_reports, [
-            "Cylinder: analytic: a recognised cylinder, in closed form (exact: valid B-rep)",
+            "Cylinder: analytic: a recognised cylinder, in closed form; exact: valid B-rep",
             "Block: exact: valid B-rep"])
         self.assertEqual(s.messages, [])
         info = s.core.part_info(1)
         self.assertEqual((info["backend"], info["backend_reason"]), ("exact", "exact: valid B-rep"))
         self.assertGreater(info["load_s"], 0)
         self.assertEqual(s.core.snapshot()["backends"], [
-            ("analytic", "analytic: a recognised cylinder, in closed form (exact: valid B-rep)"),
+            ("analytic", "analytic: a recognised cylinder, in closed form; exact: valid B-rep"),
             ("exact", "exact: valid B-rep")])
 
     def test_a_part_whose_outline_crosses_itself_loads_on_the_mesh_and_says_so(self):

@@ -434,7 +434,7 @@ TEST(PartModelDefects, FacesCrossingWithinOneSolidGoToTheMesh) {
   EXPECT_EQ(mild->backendChoice().backend, Backend::Exact);
   const PartModelPtr crossed = PartModel::fromShape(test::twistedPrism(kPi * 5 / 6), LengthUnit::Millimetre);
   EXPECT_EQ(crossed->backendChoice().backend, Backend::Mesh);
-  EXPECT_THAT(crossed->backendChoice().reason, testing::MatchesRegex("mesh 0.01 mm: faces [0-9]+ and [0-9]+ cross .*"
+  EXPECT_THAT(crossed->backendChoice().reason, testing::MatchesRegex("mesh 0.01 mm: faces [0-9]+ and [0-9]+ cross.*"
                                                                      "\\(not healable\\); the exact back end would "
                                                                      "answer wrongly there"));
   EXPECT_EQ(makePenetration(crossed)->name(), "mesh");

@@ -44,7 +44,7 @@ PenetrationModelPtr makePenetration(PartModelPtr part, Backend backend, double s
 std::string autoBackendReason(const PartModel& part, std::string_view answeredBy) {
   const std::string& reason = part.backendChoice().reason;
   if (answeredBy == toString(Backend::Analytic))
-    return std::string("analytic: a recognised ") + toString(part.primitive().kind) + ", in closed form (" + reason + ")";
+    return std::string("analytic: a recognised ") + toString(part.primitive().kind) + ", in closed form; " + reason;
   return reason;
 }
 

@@ -104,7 +104,7 @@ Findings findDefects(const TopoDS_Shape& solids, const PartLoadOptions& options)
   }
   if (first && found.defect.empty()) {
     found.defect = facePairName(solids, *first);
-    if (within > 1) found.defect += " (and " + std::to_string(within - 1) + " more pairs)";
+    if (within > 1) found.defect += ", and " + std::to_string(within - 1) + " more pairs";
   }
   return found;
 }
@@ -185,18 +185,6 @@ std::string overlapWarning(const std::vector<SolidOverlap>& overlaps, const Topo
          " in all: the mass properties count it twice (solids " + each + ")";
 }
 
-// "; the volume changed by 2.3 %" when healing changed it by more than 0.1 %, else "".
-std::string volumeChange(const TopoDS_Shape& before, const TopoDS_Shape& after) {
-  GProp_GProps a, b;
-  BRepGProp::VolumeProperties(before, a);
-  BRepGProp::VolumeProperties(after, b);
-  const double v0 = std::abs(a.Mass()), v1 = std::abs(b.Mass());
-  if (!(v0 > 0) || std::abs(v1 - v0) <= 1e-3 * v0) return "";
-  char text[48];
-  std::snprintf(text, sizeof text, "; the volume changed by %.2g %%", 100 * (v1 - v0) / v0);
-  return text;
-}
-
 BackendChoice robustBackend(const std::string& defect) {
 #ifdef HG_WITH_EMBREE
   return {Backend::Mesh, "mesh 0.01 mm: " + defect + " (not healable); the exact back end would answer wrongly there"};
@@ -227,7 +215,7 @@ PartCheck checkPart(const TopoDS_Shape& solids, const PartLoadOptions& options, 
                         (again = findDefects(healed, options)).defect.empty();
     // The choice's reason says what was healed, or what is wrong: not repeated as a warning.
     if (usable) {
-      out.choice = {Backend::Exact, "exact: healed by ShapeFix (" + found.defect + volumeChange(solids, healed) + ")"};
+      out.choice = {Backend::Exact, "exact: healed by ShapeFix (" + found.defect + ")"};
       out.solids = healed;
       found = again;
     } else {
