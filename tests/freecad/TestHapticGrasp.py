@@ -600,6 +600,83 @@ class PartsIntoTheSession(unittest.TestCase):
         self.assertEqual(messages, [])
 
 
+class PartReports(unittest.TestCase):
+    """Every part handed in is said once in the report view: which penetration back end
+    answers it and why. A part with a defect loads on a robust back end and says so; a
+    compound of solids is one part, and overlapping solids are measured."""
+
+    setUp = HapticGraspDocument.setUp
+    tearDown = HapticGraspDocument.tearDown
+
+    def add(self, name, shape, x):
+        obj = self.doc.addObject("Part::Feature", name)
+        obj.Shape = shape
+        obj.Placement = App.Placement(App.Vector(x, -400, 0), App.Rotation())
+        return obj
+
+    def open_session(self):
+        self.session = s = hs.HapticSession(self.doc)
+        print("report view:\n  " + "\n  ".join(s.part_reports))
+        return s
+
+    def test_each_part_is_said_once_with_its_back_end_and_why(self):
+        s = self.open_session()
+        self.assertEqual(s.part_reports, [
+            "Cylinder: analytic: a recognised cylinder, in closed form; exact: valid B-rep",
+            "Block: exact: valid B-rep"])
+        self.assertEqual(s.messages, [])
+        info = s.core.part_info(1)
+        self.assertEqual((info["backend"], info["backend_reason"]), ("exact", "exact: valid B-rep"))
+        self.assertGreater(info["load_s"], 0)
+        self.assertEqual(s.core.snapshot()["backends"], [
+            ("analytic", "analytic: a recognised cylinder, in closed form; exact: valid B-rep"),
+            ("exact", "exact: valid B-rep")])
+
+    def test_a_part_whose_outline_crosses_itself_loads_on_the_mesh_and_says_so(self):
+        # FreeCAD displays it; isValid() is false (its top and bottom wires cross themselves).
+        V = App.Vector
+        outline = Part.makePolygon([V(10, 10, 0), V(0, 10, 0), V(0, 0, 0), V(-1, -1, 0), V(-1, 0, 0), V(0, -1, 0),
+                                    V(10, -1, 0), V(10, 10, 0)])
+        loop = Part.Face(outline).extrude(V(0, 0, 5))
+        self.assertFalse(loop.isValid())
+        self.add("Loop", loop, 0)
+        s = self.open_session()
+        self.assertEqual([o.Name for o in s.objects], ["Cylinder", "Block", "Loop"])
+        self.assertEqual(s.messages, [])   # loaded, not skipped
+        said = [r for r in s.part_reports if r.startswith("Loop: ")]
+        self.assertEqual(len(said), 1, s.part_reports)
+        self.assertRegex(said[0], r"^Loop: mesh 0\.01 mm: self-intersecting wire in face \d+ \(not healable\); "
+                                  r"the exact back end would answer wrongly there$")
+        backend, reason = s.core.snapshot()["backends"][2]
+        self.assertEqual(backend, "mesh")
+        self.assertEqual("Loop: " + reason, said[0])
+
+    def test_a_compound_of_overlapping_solids_is_one_part_with_its_overlap_said(self):
+        touching = Part.makeCompound([Part.makeBox(10, 10, 10), Part.makeBox(10, 10, 10, App.Vector(10, 0, 0))])
+        overlapping = Part.makeCompound([Part.makeBox(10, 10, 10), Part.makeBox(10, 10, 10, App.Vector(5, 5, 5))])
+        self.add("Touching", touching, 0)
+        self.add("Overlapping", overlapping, 100)
+        s = self.open_session()
+        self.assertEqual([o.Name for o in s.objects], ["Cylinder", "Block", "Touching", "Overlapping"])
+        self.assertIn("Touching: exact: valid B-rep", s.part_reports)
+        self.assertFalse([r for r in s.part_reports if r.startswith("Touching: ") and "overlap" in r], s.part_reports)
+        said = [r for r in s.part_reports if r.startswith("Overlapping: ") and "overlap" in r]
+        self.assertEqual(len(said), 1, s.part_reports)
+        self.assertIn("solids 1 and 2 overlap by 125 mm^3", said[0])
+        # One rigid part: the two solids' volumes, the overlap counted twice.
+        self.assertAlmostEqual(s.core.part_info(3)["volume_mm3"], 2000.0, delta=1e-6)
+
+    def test_the_as1_assembly_read_as_one_shape_is_one_part(self):
+        shape = Part.Shape()
+        shape.read(os.path.join(os.environ.get("HG_TEST_DATA_DIR", ""), "as1-oc-214.stp"))
+        self.assertEqual(len(shape.Solids), 18)
+        self.add("AS1", shape, 0)
+        s = self.open_session()
+        self.assertEqual([o.Name for o in s.objects], ["Cylinder", "Block", "AS1"])
+        self.assertIn("AS1: exact: valid B-rep", s.part_reports)
+        self.assertAlmostEqual(s.core.part_info(2)["volume_mm3"], shape.Volume, delta=1e-6 * shape.Volume)
+
+
 class ForceParameters(unittest.TestCase):
     """The force parameters of the preferences page reach the core at start()."""
 

@@ -363,6 +363,38 @@ TEST(MeshPenetration, PrismsMatchSignedDistanceExactly) {
   }
 }
 
+// A prism whose outline loops over itself at the corner near the origin: its top and bottom
+// wires cross themselves, so the part's load hands it to this back end, and BRepMesh leaves
+// at least one of those faces without triangles. The mesh fills them from their boundary:
+// away from the loop, it answers as for any prism, with no sign flipped through a hole.
+const Prism kLoop{{{10, 10}, {0, 10}, {0, 0}, {-1, -1}, {-1, 0}, {0, -1}, {10, -1}}, 5};
+
+TEST(MeshPenetration, ASelfIntersectingOutlineIsFilledNotHoled) {
+  const PartModelPtr part = kLoop.part();
+  ASSERT_EQ(part->backendChoice().backend, Backend::Mesh) << part->backendChoice().reason;
+  EXPECT_FALSE(tessellate(*part, 0.01 * kMm).filledFaces.empty());  // the fill is what is tested
+  const PenetrationModelPtr model = makePenetration(part);
+  ASSERT_EQ(model->name(), "mesh");
+  auto depth = [](const Vec3& p) { return kLoop.depth(p); };
+  std::vector<Vec3> points;
+  // Away from the loop, whose inside is ambiguous (the closed form counts it in, the B-rep's
+  // orientation out): farther from it than the shell is thick.
+  for (const Vec3& p : shellPoints(*part, depth, 3 * kMm, 20000, 5))
+    if (std::hypot(p.x() / kMm + 0.5, p.y() / kMm + 0.5) > 5) points.push_back(p);
+  const Tally tally = compare(*model, depth, points, 0.0);
+  EXPECT_LE(tally.worstDepthError, 1e-9) << tally.worstPoint.transpose();
+  EXPECT_EQ(tally.signErrors, 0) << "first at " << tally.firstSignError.transpose();
+  EXPECT_GT(tally.inside, 1000);
+  EXPECT_GT(tally.outside, 1000);
+  // Straight above and below the faces that were filled: outside, at the height's distance.
+  QueryState state;
+  for (const double z : {-1.0, 6.0}) {
+    const Penetration p = model->query(Vec3(5, 5, z) * kMm, state);
+    EXPECT_FALSE(p.inside) << z;
+    EXPECT_NEAR(p.depth, -kMm, 1e-12) << z;
+  }
+}
+
 // Around the wedge's knife edge, outside, in every direction of its normal cone (from the
 // bottom face's -y to the slanted face's normal at 70 degrees): the foot is the edge and the
 // normal the bisector at -10 degrees, even where x - foot points against one face's normal.

@@ -4,24 +4,6 @@
 
 namespace hg::geometry {
 
-std::string_view toString(Backend backend) {
-  switch (backend) {
-    case Backend::Reference: return "reference";
-    case Backend::Exact: return "exact";
-    case Backend::Mesh: return "mesh";
-    case Backend::Field: return "field";
-    case Backend::Analytic: return "analytic";
-    default: return "auto";
-  }
-}
-
-Backend parseBackend(std::string_view name) {
-  for (Backend b : {Backend::Reference, Backend::Exact, Backend::Mesh, Backend::Field, Backend::Analytic, Backend::Auto})
-    if (toString(b) == name) return b;
-  throw GeometryError("unknown penetration back end '" + std::string(name) +
-                      "' (reference, exact, mesh, field, analytic, auto)");
-}
-
 #ifndef HG_WITH_EMBREE
 PenetrationModelPtr makeMeshPenetration(PartModelPtr, double) {
   throw GeometryError("the mesh back end was left out of this build (HG_WITH_EMBREE=OFF)");
@@ -34,23 +16,36 @@ PenetrationModelPtr makeFieldPenetration(PartModelPtr, double) {
 #endif
 
 PenetrationModelPtr makePenetration(PartModelPtr part, Backend backend, double setting_m) {
+  if (!part) throw GeometryError("no part to answer");
   switch (backend) {
     case Backend::Reference: return makeReferencePenetration(std::move(part));
     case Backend::Exact: return makeExactPenetration(std::move(part));
-    case Backend::Mesh: return makeMeshPenetration(std::move(part), setting_m > 0 ? setting_m : 1e-5);
-    case Backend::Field: return makeFieldPenetration(std::move(part), setting_m > 0 ? setting_m : 1e-3);
+    case Backend::Mesh: return makeMeshPenetration(std::move(part), setting_m > 0 ? setting_m : kDefaultDeflection_m);
+    case Backend::Field: return makeFieldPenetration(std::move(part), setting_m > 0 ? setting_m : kDefaultVoxel_m);
     case Backend::Analytic: return makeAnalyticPenetration(std::move(part));
-    default:
-      if (part->primitive().kind != Primitive::Kind::None) {
-        try {
-          return makeAnalyticPenetration(part);
-        } catch (const GeometryError&) {
-          // A primitive whose topology the closed form cannot name (a split rim, many
-          // edges): the exact back end answers it as well, only slower.
-        }
-      }
-      return makeExactPenetration(std::move(part));
+    default: break;
   }
+  // Auto: what the part's load chose. A defect the exact back end would answer wrongly
+  // goes to the robust one it named.
+  const Backend chosen = part->backendChoice().backend;
+  if (chosen == Backend::Mesh) return makeMeshPenetration(std::move(part), setting_m > 0 ? setting_m : kDefaultDeflection_m);
+  if (chosen == Backend::Field) return makeFieldPenetration(std::move(part), setting_m > 0 ? setting_m : kDefaultVoxel_m);
+  if (part->primitive().kind != Primitive::Kind::None) {
+    try {
+      return makeAnalyticPenetration(part);
+    } catch (const GeometryError&) {
+      // A primitive whose topology the closed form cannot name (a split rim, many
+      // edges): the exact back end answers it as well, only slower.
+    }
+  }
+  return makeExactPenetration(std::move(part));
+}
+
+std::string autoBackendReason(const PartModel& part, std::string_view answeredBy) {
+  const std::string& reason = part.backendChoice().reason;
+  if (answeredBy == toString(Backend::Analytic))
+    return std::string("analytic: a recognised ") + toString(part.primitive().kind) + ", in closed form; " + reason;
+  return reason;
 }
 
 }  // namespace hg::geometry

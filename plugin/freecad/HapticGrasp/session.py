@@ -77,6 +77,20 @@ def _error(messages, text):
     App.Console.PrintError("HapticGrasp: " + text + "\n")
 
 
+def _say_part(reports, label, info):
+    """The report-view line for one built part: which back end answers it and why (a
+    message for a sound B-rep, a warning when it was healed or needs a robust back end),
+    then its load warnings (overlapping solids, faces sewn...), one line each."""
+    line = "%s: %s" % (label, info["backend_reason"])
+    sound = info["backend"] in ("exact", "analytic") and "healed" not in info["backend_reason"]
+    reports.append(line)
+    (App.Console.PrintMessage if sound else App.Console.PrintWarning)("HapticGrasp: " + line + "\n")
+    for warning in info["warnings"]:
+        line = "%s: %s" % (label, warning)
+        reports.append(line)
+        App.Console.PrintWarning("HapticGrasp: " + line + "\n")
+
+
 def placement_numbers(placement):
     """A FreeCAD Placement as the core takes it: ((x, y, z) mm, (qx, qy, qz, qw))."""
     b = placement.Base
@@ -180,8 +194,10 @@ def collect_solids(doc, messages):
         if shape.isNull():
             _warn(messages, "skipping %s: empty shape" % obj.Label)
             continue
-        kinds = {s.ShapeType for s in shape.childShapes()} if shape.ShapeType == "Compound" else {shape.ShapeType}
-        if shape.ShapeType not in ("Solid", "CompSolid") and kinds != {"Solid"}:
+        # Solids, nested in compounds as STEP assemblies read (one rigid part however many),
+        # or shells the core closes into solids; the core refuses, with one line, what has
+        # no closed shell. Sketches and sheets are not parts.
+        if not shape.Solids and not shape.Shells:
             _warn(messages, "skipping %s: not a solid (%s), it cannot be grasped" % (obj.Label, shape.ShapeType))
             continue
         found.append(obj)
@@ -222,6 +238,7 @@ class HapticSession:
         self.doc = doc
         self.default_density = default_density
         self.messages = []        # what was said in the report view, for tests and the panel
+        self.part_reports = []    # the report view's lines about each built part: back end, why, warnings
         self.objects = []         # document objects, in the core's part order
         self.shapes = []          # per part: the Shape its model was built from (TShape identity)
         self.rebuilds = {}        # part index -> (ModelBuild, Label) of a rebuild in flight
@@ -322,6 +339,7 @@ class HapticSession:
             self.objects.append(obj)
             self.shapes.append(shape)
             self.rebuilt.append(0)
+            _say_part(self.part_reports, obj.Label, self.core.part_info(index))
         return True
 
     def cancel_build(self):
@@ -568,6 +586,7 @@ class HapticSession:
             self.core.replace_part(index, build)
             self.rebuilt[index] += 1
             swapped.append(label)
+            _say_part(self.part_reports, label, self.core.part_info(index))
         if not swapped and not moved:
             return
         self.core.restart(placements)

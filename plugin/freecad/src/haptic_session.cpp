@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "hapticgrasp/geometry/backends.hpp"
 #include "hapticgrasp/grasp/grasp_state.hpp"
 #include "hapticgrasp/grasp/scene.hpp"
 
@@ -15,7 +16,8 @@ geometry::PartModelPtr loadPart(const std::string& brep, const std::string& name
   return geometry::PartModel::fromBrepText(brep, kDocumentUnit, name, options);
 }
 
-PartInfo describe(const geometry::PartModel& part, const geometry::MassSpec& mass) {
+PartInfo describe(const geometry::PartModel& part, const geometry::MassSpec& mass,
+                  const geometry::PenetrationModel& penetration) {
   const geometry::MassProperties props = part.massProperties(mass);
   PartInfo info;
   info.name = part.name();
@@ -29,6 +31,10 @@ PartInfo describe(const geometry::PartModel& part, const geometry::MassSpec& mas
   const geometry::Aabb box = part.bounds();
   info.boundsMin_mm = toMillimetres(box.min);
   info.boundsMax_mm = toMillimetres(box.max);
+  info.backend = std::string(penetration.name());
+  info.backendReason = geometry::autoBackendReason(part, penetration.name());
+  info.load_s = part.loadTiming().total_s;
+  info.check_s = part.loadTiming().check_s;
   return info;
 }
 
@@ -36,7 +42,7 @@ BuiltPart buildPart(const PartRequest& request) {
   const grasp::PartPose pose = toPose(request.placement);
   auto model = loadPart(request.brep, request.name);
   BuiltPart built{grasp::makeScenePart(model, request.mass, pose), {}};
-  built.info = describe(*model, request.mass);
+  built.info = describe(*model, request.mass, *built.part.penetration);
   return built;
 }
 
@@ -404,11 +410,13 @@ SessionSnapshot Session::snapshot() {
   out.placements.reserve(parts_.size());
   if (!loop_ || !loop_->read(*snap_)) {
     for (const auto& part : parts_) out.placements.push_back(toPlacement(part.initialPose));
+    for (const PartInfo& info : infos_) out.backends.emplace_back(info.backend, info.backendReason);
     out.tick = tickOffset_;
     out.time_s = timeOffset_s_;
     return out;
   }
   const servo::ServoSnapshot& s = *snap_;
+  for (const PartInfo& info : infos_) out.backends.emplace_back(info.backend, info.backendReason);
   out.tick = tickOffset_ + s.tick;
   out.time_s = timeOffset_s_ + s.time_s;
   out.state = grasp::toString(s.state);

@@ -18,6 +18,7 @@
 #include "hid_input.hpp"
 #include "hapticgrasp/geometry/mass_properties.hpp"
 #include "hapticgrasp/geometry/part_model.hpp"
+#include "hapticgrasp/geometry/penetration.hpp"
 #include "hapticgrasp/grasp/grasp_parameters.hpp"
 #include "hapticgrasp/servo/scripted_hand_device.hpp"
 #include "hapticgrasp/servo/servo_loop.hpp"
@@ -34,11 +35,18 @@ struct PartInfo {
   std::string primitive;
   std::vector<std::string> warnings;
   std::array<double, 3> boundsMin_mm{0, 0, 0}, boundsMax_mm{0, 0, 0};  // object frame
+  // The penetration back end that answers the part ("exact", "mesh", ...) and why, in one
+  // line ("exact: valid B-rep", "mesh 0.01 mm: faces 27 and 31 cross (not healable); ...").
+  std::string backend;
+  std::string backendReason;
+  double load_s = 0, check_s = 0;  // the part's load (BREP parsing included) and its checks
 };
 
 // Parses BREP text (mm, Placement reset) into a validated part; throws GeometryError.
 geometry::PartModelPtr loadPart(const std::string& brep, const std::string& name);
-PartInfo describe(const geometry::PartModel& part, const geometry::MassSpec& mass);
+// `penetration`: the back end that answers the part (its name goes in the summary).
+PartInfo describe(const geometry::PartModel& part, const geometry::MassSpec& mass,
+                  const geometry::PenetrationModel& penetration);
 
 struct PartRequest;
 struct BuiltPart;
@@ -135,6 +143,9 @@ struct SessionSnapshot {
   std::string method = "two-finger";
   double rate_hz = 0;      // achieved servo rate
   double jitter_us = 0;    // period error, p99
+  // Every part's penetration back end and why (PartInfo::backend, backendReason), in part
+  // order: what answers the fingertips, next to where they are.
+  std::vector<std::pair<std::string, std::string>> backends;
 };
 
 class Session {

@@ -9,6 +9,7 @@
 
 #include "freecad_boundary.hpp"
 #include "haptic_session.hpp"
+#include "hapticgrasp/geometry/backends.hpp"
 #include "hapticgrasp/geometry/geometry_error.hpp"
 #include "hid_input.hpp"
 
@@ -42,6 +43,10 @@ py::dict infoDict(const freecad::PartInfo& info) {
   d["centre_mm"] = py::make_tuple(info.centre_mm[0], info.centre_mm[1], info.centre_mm[2]);
   d["primitive"] = info.primitive;
   d["warnings"] = info.warnings;
+  d["backend"] = info.backend;
+  d["backend_reason"] = info.backendReason;
+  d["load_s"] = info.load_s;
+  d["check_s"] = info.check_s;
   const auto mm = [](const std::array<double, 3>& p) { return py::make_tuple(p[0], p[1], p[2]); };
   d["bounds_mm"] = py::make_tuple(mm(info.boundsMin_mm), mm(info.boundsMax_mm));
   return d;
@@ -142,12 +147,14 @@ PYBIND11_MODULE(_hapticgrasp, m) {
         freecad::PartInfo info;
         {
           py::gil_scoped_release release;
-          info = freecad::describe(*freecad::loadPart(brep, name), spec);
+          const geometry::PartModelPtr part = freecad::loadPart(brep, name);
+          info = freecad::describe(*part, spec, *geometry::makePenetration(part));
         }
         return infoDict(info);
       },
       py::arg("brep"), py::arg("name") = "part", py::arg("density") = py::none(), py::arg("mass") = py::none(),
-      "Validate BREP text (mm, Placement reset) and return faces, volume_mm3, mass_kg, centre_mm, primitive, warnings. "
+      "Validate BREP text (mm, Placement reset) and return faces, volume_mm3, mass_kg, centre_mm, primitive, warnings, "
+      "backend and backend_reason (which penetration back end answers it and why, one line), load_s and check_s. "
       "Raises GeometryError (a ValueError) for a shape that cannot be grasped.");
 
   py::class_<freecad::ModelBuild>(m, "ModelBuild",
@@ -363,12 +370,16 @@ PYBIND11_MODULE(_hapticgrasp, m) {
             d["method"] = snap.method;
             d["rate_hz"] = snap.rate_hz;
             d["jitter_us"] = snap.jitter_us;
+            py::list backends;
+            for (const auto& [backend, reason] : snap.backends) backends.append(py::make_tuple(backend, reason));
+            d["backends"] = backends;
             return d;
           },
           "state, grasped part, events since the previous snapshot, watchdog fault, every part's "
           "placement as ((x, y, z) mm, (qx, qy, qz, qw)), the fingertip forces felt (N), the "
           "grasping force (N), the hand (index, thumb, wrist; mm), every fingertip in use (mm) and "
-          "its force (N), the method, the servo rate (Hz) and its period jitter (p99, us).");
+          "its force (N), the method, the servo rate (Hz), its period jitter (p99, us), and every part's "
+          "(penetration back end, why) in part order.");
 
   py::dict events;
   for (int bit = 0; bit < grasp::kEventCount; ++bit)

@@ -5,18 +5,16 @@
 #include <functional>
 #include <future>
 #include <memory>
+#include <string>
 #include <string_view>
 
+#include "hapticgrasp/geometry/backend.hpp"
 #include "hapticgrasp/geometry/part_model.hpp"
 #include "hapticgrasp/geometry/penetration.hpp"
 
 namespace hg::geometry {
 
 using PenetrationModelPtr = std::shared_ptr<const PenetrationModel>;
-
-enum class Backend { Reference, Exact, Mesh, Field, Analytic, Auto };
-std::string_view toString(Backend backend);
-Backend parseBackend(std::string_view name);  // throws GeometryError
 
 // OCCT's BRepExtrema on the shells + BRepClass3d classifier: the truth, slow, allocates.
 PenetrationModelPtr makeReferencePenetration(PartModelPtr part);
@@ -51,9 +49,19 @@ class FieldBuild {
 // Convenience: build on a worker and wait.
 PenetrationModelPtr makeFieldPenetration(PartModelPtr part, double voxel_m);
 
-// Analytic where the part is a recognised primitive, exact otherwise: model only what
-// the scene requires.
+// The defaults of the robust back ends when no setting is given: the mesh's chord
+// deflection and the field's voxel size.
+inline constexpr double kDefaultDeflection_m = 1e-5;
+inline constexpr double kDefaultVoxel_m = 1e-3;
+
+// Auto: the back end the part's load chose (part->backendChoice(): exact for a valid or
+// healed B-rep, mesh or field for a defect it could not heal), and for a recognised
+// primitive with a valid B-rep, analytic: model only what the scene requires.
 PenetrationModelPtr makePenetration(PartModelPtr part, Backend backend = Backend::Auto,
                                    double setting_m = 0);
+
+// Why the back end named `answeredBy` (a PenetrationModel's name()) answers the part under
+// Auto, in one line: the part's backendChoice() reason, or the primitive's for analytic.
+std::string autoBackendReason(const PartModel& part, std::string_view answeredBy);
 
 }  // namespace hg::geometry

@@ -4,6 +4,7 @@
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS_Shape.hxx>
 
+#include <chrono>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "hapticgrasp/geometry/aabb.hpp"
+#include "hapticgrasp/geometry/backend.hpp"
 #include "hapticgrasp/geometry/geometry_error.hpp"
 #include "hapticgrasp/geometry/mass_properties.hpp"
 #include "hapticgrasp/geometry/primitive.hpp"
@@ -21,21 +23,30 @@ namespace hg::geometry {
 class PartModel;
 using PartModelPtr = std::shared_ptr<const PartModel>;
 
-// How much a part is checked while it is loaded (PartModel::LoadOptions). Every load checks
-// that the shape is one solid or a compound of solids, closed (no free edges), valid for
-// BRepCheck_Analyzer and of positive volume; these options only concern the costlier checks.
+// How a part is checked while it is loaded (PartModel::LoadOptions). Every load checks that
+// the shape is one solid or a compound of solids (open shells are sewn first), closed, valid
+// for BRepCheck and of positive volume. A part that fails only the validity or crossing
+// checks is not refused: it is healed with ShapeFix, or answered by a back end that does not
+// depend on its defect (backendChoice() says which and why).
 struct PartLoadOptions {
-  // Reject shapes whose faces cross or coincide, within one solid or between the solids
-  // of a compound, and compounds whose solids overlap, touch or nest (GeometryError
-  // "self-intersecting shape: ..."): their penetration depths and mass properties would
-  // be wrong. Costs ~0.05 s for the 58-face sample block and ~0.4 s for the 1030-face
-  // plate (of ~3 s in all; BRepCheck_Analyzer takes most of the rest). Turn it off only for
-  // shapes a CAD system has already validated (FreeCAD's Check geometry with the BOP
-  // check, a fresh boolean result): every other check still runs.
+  // Search for faces that truly cross, within one solid (a defect: the part goes to the mesh
+  // back end unless ShapeFix heals it) and between the solids of a compound (their volumes
+  // overlap: a warning with the overlapping volume). Tolerance-level contacts and touching
+  // solids are not crossings. Costs ~0.015 s for the 58-face sample block and ~0.35 s for
+  // the 1030-face plate (meshing its 1024 curved faces, coarsely). Turn it off only for
+  // shapes a CAD system has already validated: every other check still runs.
   bool checkSelfIntersection = true;
-  // Run the checks on OCCT's thread pool (all cores). Turn off when loading beside threads
-  // that must keep their cores.
+  // Run the validity check and the crossing search side by side, on two threads (the sample
+  // plate: 0.45 s instead of 0.8 s). Turn off when loading beside threads that must keep
+  // their cores.
   bool parallel = true;
+};
+
+// How long a load took, seconds.
+struct PartLoadTiming {
+  double read_s = 0;   // parsing the file or text (0 for fromShape)
+  double check_s = 0;  // closedness, validity, crossings, healing, overlaps
+  double total_s = 0;  // all of it: reading, checks, mass properties, topology maps
 };
 
 class PartModel {
@@ -48,8 +59,9 @@ class PartModel {
   // A .brep/.brp or .step/.stp file. STEP files carry their own unit: OCCT converts them to
   // millimetres and `unit` is ignored.
   static PartModelPtr fromFile(const std::filesystem::path& path, LengthUnit unit, const LoadOptions& options = {});
-  // Every factory throws GeometryError, with a message naming the problem, for a shape that
-  // cannot be used; a part that loads may carry warnings() about what was repaired.
+  // Every factory throws GeometryError, with one line naming the problem, for a shape that
+  // cannot be used: empty, unreadable, not a solid, or without a closed shell. A part that
+  // loads may carry warnings() about what was repaired or found.
   static PartModelPtr fromShape(const TopoDS_Shape& shape, LengthUnit unit, std::string name = "part",
                                 const LoadOptions& options = {});
 
@@ -67,11 +79,20 @@ class PartModel {
   double characteristicLength() const { return bounds_.diagonal(); }
   MassProperties massProperties(const MassSpec& spec) const;   // exact, from the B-rep
   const Primitive& primitive() const { return primitive_; }
-  // Things repaired while loading (an inside-out solid reversed, ...), one line each.
+  // Things repaired or found while loading (an inside-out solid reversed, a defect healed,
+  // solids that overlap...), one line each.
   const std::vector<std::string>& warnings() const { return warnings_; }
+  // The back end that answers this part when none is asked for (makePenetration's Auto),
+  // and why: exact for a valid or healed B-rep, a robust one for a defect ShapeFix cannot
+  // heal. Auto still answers a recognised primitive in closed form.
+  const BackendChoice& backendChoice() const { return backendChoice_; }
+  const PartLoadTiming& loadTiming() const { return timing_; }
 
  private:
   PartModel() = default;
+  // Checks and models a shape whose reading took read_s, the whole load having begun at start.
+  static PartModelPtr load(const TopoDS_Shape& shape, LengthUnit unit, std::string name, const LoadOptions& options,
+                           double read_s, std::chrono::steady_clock::time_point start);
 
   std::string name_;
   TopoDS_Shape shape_;
@@ -84,6 +105,8 @@ class PartModel {
   Mat3 unitDensityInertia_ = Mat3::Zero();
   Primitive primitive_;
   std::vector<std::string> warnings_;
+  BackendChoice backendChoice_;
+  PartLoadTiming timing_;
 };
 
 }  // namespace hg::geometry

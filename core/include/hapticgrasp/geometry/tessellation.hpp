@@ -12,6 +12,9 @@ struct Tessellation {
   std::vector<Vec3> vertices;               // metres, part frame, seam nodes welded
   std::vector<Eigen::Vector3i> triangles;   // counter-clockwise seen from outside
   std::vector<int> triangleFace;            // the B-rep face (1-based) each triangle came from
+  // Faces BRepMesh could not mesh (a defect the part's load reported): filled from their
+  // boundary, as their neighbours discretized it, so that the mesh has no hole.
+  std::vector<int> filledFaces;
   double deflection_m = 0;
   Aabb bounds;
   double area() const;

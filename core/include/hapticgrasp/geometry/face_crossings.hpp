@@ -1,0 +1,40 @@
+#pragma once
+// Faces that truly cross: two faces of one solid passing through each other (a defect the
+// exact back end would answer wrongly near), or the boundaries of two solids of a compound
+// passing through each other (their volumes overlap).
+//
+// Touching is not crossing: faces that meet along the edges and vertices they share, solids
+// that touch (a bolt in its nut, coincident faces), and everything within the tolerances
+// the B-rep carries (STEP files carry large ones) are not reported.
+//
+// How: a coarse mesh of the curved faces (planar faces stay exact planes) is searched for
+// triangles that cross one another or cross a planar face inside its boundary, and planar
+// faces whose edges pierce one another; each such candidate is then confirmed on the exact
+// surfaces: a point where both surfaces meet at an angle, inside both faces and away from
+// their vertices and shared edges. A crossing smaller than the search mesh can resolve
+// (about its deflection) may be missed; a candidate that is not confirmed is not reported.
+#include <TopoDS_Face.hxx>
+#include <TopoDS_Shape.hxx>
+#include <gp_Pnt.hxx>
+
+#include <vector>
+
+namespace hg::geometry {
+
+struct FaceCrossing {
+  TopoDS_Face a, b;             // as located in the searched shape
+  int solidA = 0, solidB = 0;   // 1-based, in TopExp::MapShapes order; equal within one solid
+  gp_Pnt point;                 // where they cross, shape units
+};
+
+struct CrossingSearch {
+  std::vector<FaceCrossing> crossings;  // at most one per pair of faces
+  std::vector<TopoDS_Face> unmeshed;    // curved faces BRepMesh left without triangles: not searched
+  double deflection = 0;                // of the search mesh, shape units
+  bool truncated = false;               // more candidate pairs than are confirmed (kept bounded)
+};
+
+// `shape`: a solid or a compound of solids. Throws Standard_Failure only on OCCT bugs.
+CrossingSearch findFaceCrossings(const TopoDS_Shape& shape);
+
+}  // namespace hg::geometry

@@ -1,0 +1,122 @@
+// findFaceCrossings: faces of one solid that pass through each other, and solids of a
+// compound whose boundaries do; never faces that only touch.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <BRepBuilderAPI_Copy.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Builder.hxx>
+#include <ShapeFix_ShapeTolerance.hxx>
+#include <TopExp.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+
+#include <filesystem>
+#include <numbers>
+#include <set>
+#include <string>
+#include <utility>
+
+#include "hapticgrasp/geometry/face_crossings.hpp"
+#include "test_shapes.hpp"
+
+namespace hg::geometry {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+TopoDS_Shape readBrep(const std::string& name) {
+  TopoDS_Shape shape;
+  BRep_Builder builder;
+  BRepTools::Read(shape, (std::filesystem::path(HG_RESOURCES_DIR) / "parts" / name).c_str(), builder);
+  return shape;
+}
+
+// The pairs of solids the crossings join, and how many crossings lie within one solid.
+struct Summary {
+  std::set<std::pair<int, int>> between;
+  int within = 0;
+};
+
+Summary summarise(const CrossingSearch& search) {
+  Summary s;
+  for (const FaceCrossing& c : search.crossings) {
+    if (c.solidA == c.solidB) ++s.within;
+    else s.between.insert({std::min(c.solidA, c.solidB), std::max(c.solidA, c.solidB)});
+  }
+  return s;
+}
+
+TEST(FaceCrossings, SoundPartsHaveNone) {
+  for (const char* name : {"block.brep", "loft.brep", "plate.brep", "cylinder.brep"}) {
+    SCOPED_TRACE(name);
+    const CrossingSearch search = findFaceCrossings(readBrep(name));
+    EXPECT_TRUE(search.crossings.empty());
+    EXPECT_TRUE(search.unmeshed.empty());
+    EXPECT_FALSE(search.truncated);
+  }
+  // B-spline surfaces wound around each other, every edge touching every face's box.
+  EXPECT_TRUE(findFaceCrossings(test::helicalThread()).crossings.empty());
+}
+
+TEST(FaceCrossings, SidesOfATwistedPrismCrossOnlyWhenTurnedFar) {
+  EXPECT_TRUE(findFaceCrossings(test::twistedPrism(kPi / 3)).crossings.empty());
+  const CrossingSearch crossed = findFaceCrossings(test::twistedPrism(kPi * 5 / 6));
+  EXPECT_GT(summarise(crossed).within, 0);
+  for (const FaceCrossing& c : crossed.crossings) {
+    EXPECT_EQ(c.solidA, 1);
+    EXPECT_FALSE(c.a.IsSame(c.b));
+    EXPECT_GT(c.point.Z(), 0);  // inside both faces: off the caps
+    EXPECT_LT(c.point.Z(), 3);
+  }
+}
+
+TEST(FaceCrossings, SidesCrossedLikeAnXAreFound) {
+  // Two sides of the loop prism cross along the vertical line x = y = -0.5 mm, from the
+  // bottom to the top: their crossing ends on the edges of both.
+  const TopoDS_Shape loop = test::loopPrism();
+  const CrossingSearch search = findFaceCrossings(loop);
+  ASSERT_EQ(search.crossings.size(), 1u);
+  const gp_Pnt& p = search.crossings[0].point;
+  EXPECT_NEAR(p.X(), -0.5, 1e-7);
+  EXPECT_NEAR(p.Y(), -0.5, 1e-7);
+}
+
+TEST(FaceCrossings, TouchingIsNotCrossing) {
+  const TopoDS_Shape a = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 10).Shape();
+  const TopoDS_Shape b = BRepPrimAPI_MakeBox(gp_Pnt(10, 0, 0), 10, 10, 10).Shape();
+  const TopoDS_Shape c = BRepPrimAPI_MakeBox(gp_Pnt(2, 2, 10), 5, 5, 5).Shape();
+  EXPECT_TRUE(findFaceCrossings(test::compoundOf({a, b, c})).crossings.empty());
+  // Coincident cylinders: a bolt in a hole of its own radius.
+  EXPECT_TRUE(findFaceCrossings(test::boltInNut(4)).crossings.empty());
+  // Vertices whose tolerances overlap across a thin plate's thickness.
+  TopoDS_Shape plate = BRepBuilderAPI_Copy(BRepPrimAPI_MakeBox(10, 10, 0.5).Shape()).Shape();
+  ShapeFix_ShapeTolerance().SetTolerance(plate, 0.3, TopAbs_VERTEX);
+  EXPECT_TRUE(findFaceCrossings(plate).crossings.empty());
+}
+
+TEST(FaceCrossings, SolidsWhoseBoundariesCrossAreNamed) {
+  const TopoDS_Shape a = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 10, 10, 10).Shape();
+  const TopoDS_Shape b = BRepPrimAPI_MakeBox(gp_Pnt(5, 5, 5), 10, 10, 10).Shape();
+  const TopoDS_Shape far = BRepPrimAPI_MakeBox(gp_Pnt(50, 0, 0), 10, 10, 10).Shape();
+  const Summary boxes = summarise(findFaceCrossings(test::compoundOf({far, a, b})));
+  EXPECT_EQ(boxes.between, (std::set<std::pair<int, int>>{{2, 3}}));
+  EXPECT_EQ(boxes.within, 0);
+  // A bolt half a millimetre fatter than its hole, a sphere through a slab's top (a closed
+  // loop of crossing inside both faces: no edge of either pierces the other).
+  EXPECT_EQ(summarise(findFaceCrossings(test::boltInNut(4.5))).between.size(), 1u);
+  EXPECT_EQ(summarise(findFaceCrossings(test::sphereThroughSlab())).between.size(), 1u);
+}
+
+TEST(FaceCrossings, ACrossingLiesOnBothFaces) {
+  const TopoDS_Shape shape = test::sphereThroughSlab();
+  const CrossingSearch search = findFaceCrossings(shape);
+  ASSERT_EQ(search.crossings.size(), 1u);
+  // On the sphere (r = 5) and in the slab's top plane (z = 3).
+  const gp_Pnt& p = search.crossings[0].point;
+  EXPECT_NEAR(p.Distance(gp::Origin()), 5, 1e-6);
+  EXPECT_NEAR(p.Z(), 3, 1e-6);
+  EXPECT_GT(search.deflection, 0);
+}
+
+}  // namespace
+}  // namespace hg::geometry
