@@ -249,14 +249,6 @@ inline PartModelPtr conicSectionsPart() {
   return part(BRepAlgoAPI_Fuse(ellipse, cut).Shape(), "conic sections");
 }
 
-// Two boxes touching face to face, as one part (a weldment).
-inline PartModelPtr touchingBoxesPart() {
-  TopoDS_Compound compound;
-  BRep_Builder builder;
-  builder.MakeCompound(compound);
-  builder.Add(compound, BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 40, 30, 20).Shape());
-  builder.Add(compound, BRepPrimAPI_MakeBox(gp_Pnt(40, 5, 0), 20, 20, 20).Shape());
-  return PartModel::fromShape(compound, LengthUnit::Millimetre, "weldment");
 // ---------------------------------------------------------------------------------------
 // Shapes that test loading (mm): compounds of solids as one part, and defects.
 
@@ -352,6 +344,13 @@ inline TopoDS_Shape helicalThread() {
   pipe.Build();
   pipe.MakeSolid();
   return pipe.Shape();
+}
+
+// Two boxes touching face to face, as one part (a weldment).
+inline PartModelPtr touchingBoxesPart() {
+  return PartModel::fromShape(compoundOf({BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 40, 30, 20).Shape(),
+                                          BRepPrimAPI_MakeBox(gp_Pnt(40, 5, 0), 20, 20, 20).Shape()}),
+                              LengthUnit::Millimetre, "weldment");
 }
 
 // Points in a shell of +/- `shell_m` around the surface (area-weighted surface points
