@@ -33,7 +33,7 @@
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepBuilderAPI_Transform.hxx>
-#include <BRepOffsetAPI_MakeOffsetShape.hxx>
+#include <BRepOffsetAPI_MakeThickSolid.hxx>
 #include <BRepPrimAPI_MakeCone.hxx>
 #include <BRepPrimAPI_MakePrism.hxx>
 #include <BRepPrimAPI_MakeRevol.hxx>
@@ -205,11 +205,23 @@ inline PartModelPtr trimmedSurfacePart() {
   return part(BRepPrimAPI_MakePrism(face, gp_Vec(0, 0, -15)).Shape(), "trimmed wave");
 }
 
-// The loft grown by 2 mm: faces on offset surfaces.
-inline PartModelPtr offsetLoftPart() {
-  BRepOffsetAPI_MakeOffsetShape offset;
-  offset.PerformBySimple(loftPart()->shape(), 2.0);
-  return part(offset.Shape(), "offset loft");
+// The loft hollowed to a 2 mm wall, open at the top, as FreeCAD's Thickness makes a shell:
+// the inner face lies on an offset surface of the B-spline side.
+inline PartModelPtr thickLoftPart() {
+  const TopoDS_Shape loft = loftPart()->shape();
+  TopTools_ListOfShape open;
+  double top = -INFINITY;
+  for (TopExp_Explorer ex(loft, TopAbs_FACE); ex.More(); ex.Next()) {
+    const BRepAdaptor_Surface s(TopoDS::Face(ex.Current()));
+    if (s.GetType() == GeomAbs_Plane && s.Plane().Location().Z() > top) {
+      top = s.Plane().Location().Z();
+      open.Clear();
+      open.Append(ex.Current());
+    }
+  }
+  BRepOffsetAPI_MakeThickSolid shell;
+  shell.MakeThickSolidByJoin(loft, open, -2.0, 1e-4);
+  return part(shell.Shape(), "hollow loft");
 }
 
 // A plate whose one side is the offset of a B-spline (an edge on an offset curve, and a

@@ -4,7 +4,20 @@
 // precompute about the part (boxes of the faces, the solid explorer) across queries, so
 // that the ladder compares against OCCT at its best; that state is mutable, so queries
 // are serialised with a mutex. Slow, and it allocates: never on the servo thread.
+//
+// BRepExtrema alone is not always the truth: on a face of a surface of linear extrusion of
+// a periodic B-spline (a cam) it missed the foot and answered the rim 0.1 mm farther
+// (measured against brute force). So every face whose box could beat its answer is also
+// searched by OCCT's generic extremum (Extrema_GenExtPS) from a dense grid, each minimum
+// it finds kept if it lies inside the face, and the closer answer wins.
+#include <BRepAdaptor_Surface.hxx>
+#include <BRepBndLib.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
+#include <BRepTools.hxx>
+#include <BRepTopAdaptor_FClass2d.hxx>
+#include <Bnd_Box.hxx>
+#include <Extrema_GenExtPS.hxx>
+#include <Extrema_POnSurf.hxx>
 #include <BRepClass3d_SolidClassifier.hxx>
 #include <BRepExtrema_DistShapeShape.hxx>
 #include <BRep_Builder.hxx>
@@ -34,6 +47,8 @@ class ReferencePenetration final : public PenetrationModel {
       classifiers_.push_back(std::make_unique<BRepClass3d_SolidClassifier>(ex.Current()));
     distance_.LoadS2(shells_);
     distance_.SetFlag(Extrema_ExtFlag_MIN);
+    const TopTools_IndexedMapOfShape& faces = part_->faces();
+    for (int i = 1; i <= faces.Extent(); ++i) faceSearches_.push_back(std::make_unique<FaceSearch>(TopoDS::Face(faces(i))));
   }
 
   std::string_view name() const noexcept override { return "reference"; }
@@ -50,14 +65,20 @@ class ReferencePenetration final : public PenetrationModel {
       distance.LoadS1(BRepBuilderAPI_MakeVertex(x).Vertex());
       if (!distance.Perform() || distance.NbSolution() == 0) return {};
       Penetration p;
-      const gp_Pnt foot = distance.PointOnShape2(1);
-      const double d = distance.Value();
+      gp_Pnt foot = distance.PointOnShape2(1);
+      double d = distance.Value();
+      const int closerFace = crossCheckFaces(x, d, foot);
       p.inside = d > 0 && classify(x) == TopAbs_IN;
       p.depth = (p.inside ? d : -d) * s_;
       p.foot = toVec(foot.XYZ()) * s_;
       p.vector = toVec(gp_Vec(foot, x).XYZ()) * s_;
       if (d > 0) p.normal = (p.inside ? -p.vector : p.vector).normalized();
       const TopoDS_Shape support = distance.SupportOnShape2(1);
+      if (closerFace > 0) {
+        p.feature = Feature::Face;
+        p.featureIndex = closerFace;
+        return p;
+      }
       switch (distance.SupportTypeShape2(1)) {
         case BRepExtrema_IsInFace:
           p.feature = Feature::Face;
@@ -78,6 +99,46 @@ class ReferencePenetration final : public PenetrationModel {
   }
 
  private:
+  // One face and OCCT's generic extremum on it, initialised once (its sample grid).
+  struct FaceSearch {
+    TopoDS_Face face;
+    BRepAdaptor_Surface surface;
+    Bnd_Box box;
+    BRepTopAdaptor_FClass2d classifier;
+    Extrema_GenExtPS extrema;
+    explicit FaceSearch(const TopoDS_Face& f)
+        : face(f), surface(f), classifier(f, Precision::PConfusion()) {
+      BRepBndLib::AddOptimal(f, box, false, false);  // Add() missed part of an extrusion face
+      double u0, u1, v0, v1;
+      BRepTools::UVBounds(f, u0, u1, v0, v1);
+      extrema.Initialize(surface, 48, 48, u0, u1, v0, v1, Precision::PConfusion(), Precision::PConfusion());
+      extrema.SetFlag(Extrema_ExtFlag_MIN);
+    }
+  };
+
+  // The closest foot inside a face that beats d, if any: d and foot become it and the
+  // face's 1-based index is returned (0: BRepExtrema's answer stands).
+  int crossCheckFaces(const gp_Pnt& x, double& d, gp_Pnt& foot) const {
+    int closer = 0;
+    for (std::size_t i = 0; i < faceSearches_.size(); ++i) {
+      FaceSearch& f = *faceSearches_[i];
+      if (f.box.Distance(Bnd_Box(x, x)) >= d) continue;
+      f.extrema.Perform(x);
+      if (!f.extrema.IsDone()) continue;
+      for (int k = 1; k <= f.extrema.NbExt(); ++k) {
+        const double dk = std::sqrt(f.extrema.SquareDistance(k));
+        if (dk >= d - 1e-12 * part_->characteristicLength() / s_) continue;
+        double u, v;
+        f.extrema.Point(k).Parameter(u, v);
+        if (f.classifier.Perform(gp_Pnt2d(u, v)) != TopAbs_IN) continue;
+        d = dk;
+        foot = f.extrema.Point(k).Value();
+        closer = static_cast<int>(i) + 1;
+      }
+    }
+    return closer;
+  }
+
   TopAbs_State classify(const gp_Pnt& x) const {
     for (const auto& classifier : classifiers_) {
       classifier->Perform(x, 1e-9 * part_->characteristicLength() / s_);
@@ -92,6 +153,7 @@ class ReferencePenetration final : public PenetrationModel {
   mutable std::mutex mutex_;
   mutable BRepExtrema_DistShapeShape distance_;
   std::vector<std::unique_ptr<BRepClass3d_SolidClassifier>> classifiers_;
+  std::vector<std::unique_ptr<FaceSearch>> faceSearches_;
 };
 
 }  // namespace

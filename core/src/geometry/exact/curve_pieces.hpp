@@ -26,12 +26,14 @@ struct CurvePiece {
   double seedT[kSeeds] = {};
   gp_Pnt seedP[kSeeds];
 
-  // Whether a Newton search on the piece is certain for x when only feet closer than
-  // `best` matter: the distance's second derivative along the curve, 1 - (x - C).K per
-  // unit arc length, is positive wherever |x - C| k < 1. Two minima closer than best
-  // would need a maximum between them, at most best + spread from x (the distance grows
-  // no faster than the arc): if that is still short of 1/k, the piece holds one minimum
-  // at most.
+  // Whether a Newton search that ended inside the piece, at distance d from x, found its
+  // closest point: a curve bending less than the circle of radius d about x (d k < 1)
+  // stays outside that circle's ball along so short a piece.
+  bool minimumIsGlobal(double d) const noexcept { return d * kappa < 0.9; }
+  // Whether a Newton search pushed out of the piece proves it holds no foot closer than
+  // `best`: the distance's second derivative along the curve, 1 - (x - C).K per unit arc
+  // length, is positive wherever |x - C| k < 1; two minima would need a maximum between
+  // them, at most best + spread from x (the distance grows no faster than the arc).
   bool clearOfFocus(double best) const noexcept { return (best + spread) * kappa < 0.9; }
 };
 

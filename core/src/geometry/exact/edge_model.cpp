@@ -98,10 +98,12 @@ EdgeSearch EdgeModel::projectPiece(const gp_Pnt& x, int index, bool warm, double
   const auto curve = [this](double s, gp_Pnt& p, gp_Vec& d1, gp_Vec& dd2) { d2(s, p, d1, dd2); };
   const SearchEnd end = newtonOnInterval(curve, x, a, b, t, tolerance_);
   EdgeSearch search;
-  // Clear of the piece's focal points the distance is strictly convex along it: Newton
-  // went to its one minimum, or out of the piece.
-  if (end == SearchEnd::Interior) search.found = accept(x, t, bound, foot);
-  search.certain = end != SearchEnd::Failed && piece.clearOfFocus(search.found ? foot.distance : bound);
+  if (end == SearchEnd::Interior) {
+    search.found = accept(x, t, bound, foot);
+    search.certain = piece.minimumIsGlobal(curve_->Value(fit(t)).Distance(x));
+  } else {
+    search.certain = end != SearchEnd::Failed && piece.clearOfFocus(bound);
+  }
   t = fit(t);
   return search;
 }

@@ -31,10 +31,29 @@ double wrap(double t, double lo, double period) {
   return t - k * period;
 }
 
-// The surface without rectangular trims (the face's own trim does the trimming).
+// The surface without rectangular trims (the face's own trim does the trimming), and an
+// offset surface with a canonical equivalent (of a plane, cylinder, ...) as that.
 Handle(Geom_Surface) untrimmed(Handle(Geom_Surface) s) {
-  while (auto t = Handle(Geom_RectangularTrimmedSurface)::DownCast(s)) s = t->BasisSurface();
-  return s;
+  for (;;) {
+    if (auto t = Handle(Geom_RectangularTrimmedSurface)::DownCast(s); !t.IsNull()) {
+      s = t->BasisSurface();
+    } else if (auto o = Handle(Geom_OffsetSurface)::DownCast(s); !o.IsNull() && !o->Surface().IsNull()) {
+      s = o->Surface();
+    } else {
+      return s;
+    }
+  }
+}
+
+// What Newton searches on a face: its surface, or the basis of an offset surface, and
+// how far the surface stands off it.
+double offsetOf(const Handle(Geom_Surface)& s) {
+  const auto o = Handle(Geom_OffsetSurface)::DownCast(s);
+  return o.IsNull() ? 0 : o->Offset();
+}
+Handle(Geom_Surface) searchedBasis(const Handle(Geom_Surface)& s) {
+  const auto o = Handle(Geom_OffsetSurface)::DownCast(s);
+  return o.IsNull() ? s : untrimmed(o->BasisSurface());
 }
 
 // What to evaluate: a Bézier surface as the B-spline it is (one span), for the span cache.
@@ -75,7 +94,9 @@ bool isClosedForm(GeomAbs_SurfaceType type) {
 
 FaceModel::FaceModel(const TopoDS_Face& face, double characteristicLength)
     : surface_(untrimmed(BRep_Tool::Surface(face))),
-      evaluator_(evaluable(surface_)),
+      offset_(offsetOf(surface_)),
+      basis_(searchedBasis(surface_)),
+      evaluator_(evaluable(basis_)),
       reversed_(face.Orientation() == TopAbs_REVERSED),
       tolerance_(std::max(BRep_Tool::Tolerance(face), 1e-12 * characteristicLength)),
       precision_(1e-9 * characteristicLength),
@@ -117,7 +138,7 @@ FaceModel::FaceModel(const TopoDS_Face& face, double characteristicLength)
 
 void FaceModel::buildPatches() {
   std::vector<double> uBreaks, vBreaks;
-  knotBreaks(surface_, uBreaks, vBreaks);
+  knotBreaks(basis_, uBreaks, vBreaks);
   // A periodic direction without knots is cut in quarters: a patch never wraps round.
   if (uBreaks.empty() && uPeriod_ > 0)
     for (int k = 1; k < 4; ++k) uBreaks.push_back(u0_ + k * (u1_ - u0_) / 4);
@@ -125,11 +146,48 @@ void FaceModel::buildPatches() {
     for (int k = 1; k < 4; ++k) vBreaks.push_back(v0_ + k * (v1_ - v0_) / 4);
   PatchOptions options;
   options.tolerance = tolerance_;
+  // Cut on what Newton searches (the basis of an offset surface); the offset surface lies
+  // within |d| of it.
+  const Basis basis{this};
   patches_ = buildSurfacePatches(
-      [this](double u, double v, gp_Pnt& p, gp_Vec& du, gp_Vec& dv, gp_Vec& duu, gp_Vec& dvv, gp_Vec& duv) {
-        d2(u, v, p, du, dv, duu, dvv, duv);
+      [&basis](double u, double v, gp_Pnt& p, gp_Vec& du, gp_Vec& dv, gp_Vec& duu, gp_Vec& dvv, gp_Vec& duv) {
+        basis.d2(u, v, p, du, dv, duu, dvv, duv);
       },
       {u0_, u1_, v0_, v1_}, uBreaks, vBreaks, options);
+  if (offset_ != 0)
+    for (SurfacePatch& p : patches_) growForOffset(p);
+}
+
+// A patch of an offset surface's basis made to bound the offset surface: its bounds grow by
+// |d|, its second derivatives by the normal's turning (d N_uu is about d k |S_u|^2... with
+// the sampled margins).
+void FaceModel::growForOffset(SurfacePatch& p) const {
+  const double d = std::abs(offset_), k = std::max(p.kTowards, p.kAway);
+  p.bound.box = p.bound.box.inflated(d);
+  if (p.bound.oriented()) p.bound.half += Vec3::Constant(d);
+  p.spread += d;
+  const double grow = 1 + 2 * d * k;
+  p.maxSuu *= grow;
+  p.maxSuv *= grow;
+  p.maxSvv *= grow;
+  p.lipschitzU *= grow;
+  p.lipschitzV *= grow;
+}
+
+gp_Pnt FaceModel::value(double u, double v) const noexcept {
+  if (offset_ == 0) return evaluator_.value(wrapU(u), wrapV(v));
+  gp_Pnt p;
+  gp_Vec du, dv;
+  evaluator_.d1(wrapU(u), wrapV(v), p, du, dv);
+  gp_Vec n = du.Crossed(dv);
+  const double m = n.Magnitude();
+  return m > 0 ? p.Translated(n * (offset_ / m)) : surface_->Value(wrapU(u), wrapV(v));
+}
+
+void FaceModel::d2(double u, double v, gp_Pnt& p, gp_Vec& du, gp_Vec& dv, gp_Vec& duu, gp_Vec& dvv,
+                   gp_Vec& duv) const noexcept {
+  if (offset_ == 0) evaluator_.d2(wrapU(u), wrapV(v), p, du, dv, duu, dvv, duv);
+  else surface_->D2(wrapU(u), wrapV(v), p, du, dv, duu, dvv, duv);  // slow, uncached: the fallback only
 }
 
 double FaceModel::wrapClosed(double t, double lo, double period, bool periodic) noexcept {
@@ -162,7 +220,7 @@ bool FaceModel::wrapOrClamp(double& u, double& v) const noexcept {
 bool FaceModel::accept(const gp_Pnt& x, double u, double v, double bound, FaceFoot& foot,
                        const gp_Pnt* point) const noexcept {
   if (!wrapOrClamp(u, v)) return false;  // the surface's foot lies beyond the face
-  const gp_Pnt p = point ? *point : evaluator_.value(u, v);
+  const gp_Pnt p = point ? *point : value(u, v);
   const double d = p.Distance(x);
   if (d >= bound) return false;  // cannot beat what we have: skip the domain test
   if (!domain_.contains(u, v)) return false;
@@ -238,7 +296,7 @@ FaceSearch FaceModel::projectPatch(const gp_Pnt& x, int index, FaceStart start, 
     // Beside it, the search starts from its nearest point of the rectangle, from which
     // it is pushed out at once unless the patch holds a foot of its own.
     const double bu = near(best->u, rect.u0, uPeriod_), bv = near(best->v, rect.v0, vPeriod_);
-    if (inRect(bu, bv) && patch.clearOfFocus(xv, bound)) {
+    if (inRect(bu, bv) && patch.minimumIsGlobal(xv, bound + std::abs(offset_))) {
       search.u = best->u;
       search.v = best->v;
       return search;
@@ -266,16 +324,16 @@ FaceSearch FaceModel::projectPatch(const gp_Pnt& x, int index, FaceStart start, 
   // error shrinks like step^2 over the length on which the surface bends.
   const double bendLength = std::min(patch.spread, 1 / std::max({patch.kTowards, patch.kAway, 1e-300}));
   const NewtonResult n =
-      newtonInRect(*this, x, rect, from, evaluated, precision_, std::sqrt(precision_ * bendLength));
+      newtonInRect(Basis{this}, x, rect, from, evaluated, precision_, std::sqrt(precision_ * bendLength));
   search.u = n.u;
   search.v = n.v;
   if (n.end == SearchEnd::Interior) {
     // The foot from the last evaluation, to second order: no evaluation more.
-    const gp_Pnt point = n.jet.pointAt(n.u - n.jet.u, n.v - n.jet.v);
+    gp_Vec normal = n.jet.normalAt(n.u - n.jet.u, n.v - n.jet.v);
+    if (normal.Magnitude() > 0) normal.Normalize();
+    const gp_Pnt point = n.jet.pointAt(n.u - n.jet.u, n.v - n.jet.v).Translated(normal * offset_);
     search.found = accept(x, n.u, n.v, bound, foot, &point);
     if (search.found) {
-      gp_Vec normal = n.jet.normalAt(n.u - n.jet.u, n.v - n.jet.v);
-      if (normal.Magnitude() > 0) normal.Normalize();
       foot.normal = reversed_ ? normal.Reversed() : normal;
       foot.jet = n.jet;
       foot.hasJet = true;
@@ -283,9 +341,16 @@ FaceSearch FaceModel::projectPatch(const gp_Pnt& x, int index, FaceStart start, 
       search.v = foot.v;
     }
   }
-  // Clear of the patch's focal points, the patch holds one local minimum at most, and
-  // Newton went to it or out of the patch.
-  search.certain = n.end != SearchEnd::Failed && patch.clearOfFocus(xv, search.found ? foot.distance : bound);
+  // Certain when Newton's minimum is the patch's closest point, or when being pushed out
+  // of the patch proves it holds none closer than the bound. (The basis of an offset
+  // surface stands |d| farther or nearer than the surface itself.)
+  const double d = std::abs(offset_);
+  if (n.end == SearchEnd::Interior) {
+    const gp_Pnt basisPoint = n.jet.pointAt(n.u - n.jet.u, n.v - n.jet.v);
+    search.certain = patch.minimumIsGlobal(xv, basisPoint.Distance(x));
+  } else {
+    search.certain = n.end != SearchEnd::Failed && patch.clearOfFocus(xv, bound + d);
+  }
   return search;
 }
 

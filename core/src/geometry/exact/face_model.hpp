@@ -78,15 +78,22 @@ class FaceModel {
   gp_Vec normalAt(double u, double v) const noexcept;
   std::size_t memoryBytes() const noexcept;
 
-  // The surface at (u, v) of the face's parameter box, wrapped across a closed direction.
-  gp_Pnt value(double u, double v) const noexcept {
-    return evaluator_.value(wrapClosed(u, u0_, uPeriod_, uPeriodic_), wrapClosed(v, v0_, vPeriod_, vPeriodic_));
-  }
-  void d2(double u, double v, gp_Pnt& p, gp_Vec& du, gp_Vec& dv, gp_Vec& duu, gp_Vec& dvv,
-          gp_Vec& duv) const noexcept {
-    evaluator_.d2(wrapClosed(u, u0_, uPeriod_, uPeriodic_), wrapClosed(v, v0_, vPeriod_, vPeriodic_), p, du, dv, duu,
-                  dvv, duv);
-  }
+  // The face's surface at (u, v) of its parameter box, wrapped across a closed direction.
+  gp_Pnt value(double u, double v) const noexcept;
+  void d2(double u, double v, gp_Pnt& p, gp_Vec& du, gp_Vec& dv, gp_Vec& duu, gp_Vec& dvv, gp_Vec& duv) const noexcept;
+
+  // What Newton searches: the surface itself, or for a face on an offset surface its
+  // basis. S + d N and S have the same critical points of the distance (x - S is along
+  // N at both), and the basis is evaluated from its span caches: an offset surface's own
+  // second derivatives need the basis's third, uncached.
+  struct Basis {
+    const FaceModel* face;
+    gp_Pnt value(double u, double v) const noexcept { return face->evaluator_.value(face->wrapU(u), face->wrapV(v)); }
+    void d2(double u, double v, gp_Pnt& p, gp_Vec& du, gp_Vec& dv, gp_Vec& duu, gp_Vec& dvv,
+            gp_Vec& duv) const noexcept {
+      face->evaluator_.d2(face->wrapU(u), face->wrapV(v), p, du, dv, duu, dvv, duv);
+    }
+  };
 
  private:
   SurfaceFeet closedFormFeet(const gp_Pnt& x) const noexcept;
@@ -105,9 +112,14 @@ class FaceModel {
   // A closed direction that the surface does not know as periodic (a loft through closed
   // sections) is wrapped by hand before evaluation.
   static double wrapClosed(double t, double lo, double period, bool periodic) noexcept;
+  double wrapU(double u) const noexcept { return wrapClosed(u, u0_, uPeriod_, uPeriodic_); }
+  double wrapV(double v) const noexcept { return wrapClosed(v, v0_, vPeriod_, vPeriodic_); }
   void buildPatches();
+  void growForOffset(SurfacePatch& patch) const;
 
-  Handle(Geom_Surface) surface_;
+  Handle(Geom_Surface) surface_;     // the face's surface, rectangular trims removed
+  double offset_;                    // surface_ = basis_ + offset_ N (0: no offset)
+  Handle(Geom_Surface) basis_;       // what evaluator_ evaluates: surface_, or its offset basis
   SurfaceEvaluator evaluator_;
   GeomAbs_SurfaceType type_;
   gp_Pln plane_;

@@ -197,10 +197,14 @@ BranchResult branchAndBound(const Surface& surface, const gp_Pnt& x, const Surfa
         u = n.u;
         v = n.v;
         const double d = surface.value(u, v).Distance(x);
+        // The patch's own closest point (the ball of radius d about x touches it and the
+        // patch bends less): nothing else on it can be closer.
+        const bool global = patch.minimumIsGlobal(Vec3(x.X(), x.Y(), x.Z()), d);
         if (d < bound && accept(u, v)) {
           bound = d;
           result = {true, u, v, d, result.certain};
         }
+        if (global) return result;
       }
     }
     // Halve across the longer side (in space).

@@ -39,17 +39,25 @@ struct SurfacePatch {
   double maxSuu = 0, maxSuv = 0, maxSvv = 0;  // bounds of the second derivatives
   SurfaceJet seeds[9];  // a first Newton step from a seed costs no evaluation
 
-  // Whether a Newton search on the patch is certain for x when only feet closer than
-  // `best` matter. At a critical point P of the distance (x - P along the normal N, at
-  // distance d) its Hessian is I - d II: a strict local minimum while d k < 1 for the
-  // curvature bending towards x. Two minima on one patch would need a saddle or a maximum
-  // between them, and the distance grows by no more than the path between them: such a
-  // point lies at most best + spread from x. If that is still short of the focal distance
-  // 1/k, the patch holds one minimum at most.
+  // Whether a Newton search on the patch that ended inside it, at a point of the surface
+  // at distance d from x, found the patch's closest point. The ball of radius d about x
+  // touches the surface there; a surface bending towards x less than that ball (d k < 1,
+  // k the curvature towards x's side) stays outside it all over so nearly flat a patch.
+  bool minimumIsGlobal(const Vec3& x, double d) const noexcept { return d * curvatureTowards(x) < kFocalMargin; }
+  // Whether a Newton search on the patch that was pushed out of it proves the patch holds
+  // no foot closer than `best`. At a critical point P (x - P along N, at distance d) the
+  // distance's Hessian is I - d II: a strict local minimum while d k < 1. A minimum in the
+  // patch would have been found unless a saddle or maximum separated it from the start,
+  // and the distance grows by no more than the path between them: such a point lies at
+  // most best + spread from x. If that is short of the focal distance 1/k, there is none.
   bool clearOfFocus(const Vec3& x, double best) const noexcept {
+    return (best + spread) * curvatureTowards(x) < kFocalMargin;
+  }
+  // The largest curvature bending towards x's side of the patch (both sides', when x lies
+  // within its thickness).
+  double curvatureTowards(const Vec3& x) const noexcept {
     const int side = bound.side(x);
-    const double k = side > 0 ? kTowards : side < 0 ? kAway : std::max(kTowards, kAway);
-    return (best + spread) * k < kFocalMargin;
+    return side > 0 ? kTowards : side < 0 ? kAway : std::max(kTowards, kAway);
   }
   static constexpr double kFocalMargin = 0.9;
 };

@@ -66,6 +66,27 @@ double interiorAngle(const TopoDS_Edge& in, const TopoDS_Edge& out, const TopoDS
   return model.contains(probe.X(), probe.Y()) ? angle : 2 * M_PI - angle;
 }
 
+// A face's share of the pseudo-normal at a pole: its normals along the degenerated edge
+// (just inside the face), each weighted by the angle it turns through there: the
+// integral of the normal over the face's fan round the pole.
+gp_Vec poleNormal(const TopoDS_Edge& degenerated, const TopoDS_Face& face, const FaceModel& model, double u0,
+                  double u1, double v0, double v1) {
+  double first, last;
+  const Handle(Geom2d_Curve) pcurve = BRep_Tool::CurveOnSurface(degenerated, face, first, last);
+  if (pcurve.IsNull()) return gp_Vec(0, 0, 0);
+  const gp_Pnt2d a = pcurve->Value(first), b = pcurve->Value(last);
+  // The fan's angle is the span of the pole's parameter (u round a cone's apex).
+  const double span = std::max(std::abs(b.X() - a.X()), std::abs(b.Y() - a.Y()));
+  constexpr int kSamples = 32;
+  gp_Vec sum(0, 0, 0);
+  for (int i = 0; i < kSamples; ++i) {
+    const gp_Pnt2d uv = pcurve->Value(first + (last - first) * (i + 0.5) / kSamples);
+    const double inU = uv.X() + 1e-6 * (0.5 * (u0 + u1) - uv.X()), inV = uv.Y() + 1e-6 * (0.5 * (v0 + v1) - uv.Y());
+    sum += model.normalAt(inU, inV) * (span / kSamples);
+  }
+  return sum;
+}
+
 }  // namespace
 
 std::vector<VertexModel> buildVertexModels(const TopTools_IndexedMapOfShape& vertices,
@@ -92,10 +113,18 @@ std::vector<VertexModel> buildVertexModels(const TopTools_IndexedMapOfShape& ver
         const TopoDS_Edge& in = edges[(k + edges.size() - 1) % edges.size()];
         const int vi = vertices.FindIndex(starts[k]);
         if (vi == 0) continue;
+        // A pole (a cone's apex, a sphere's pole) is reached through a degenerated edge:
+        // the face fans round it, and adds its normals all round (below), not one.
+        if (BRep_Tool::Degenerated(in) || BRep_Tool::Degenerated(edges[k])) continue;
         const double angle = interiorAngle(in, edges[k], starts[k], face, faceModels[f - 1], probeStep);
         const gp_Pnt2d uv = BRep_Tool::Parameters(starts[k], face);
         models[vi - 1].pseudoNormal += angle * faceModels[f - 1].normalAt(uv.X(), uv.Y());
       }
+      for (const TopoDS_Edge& e : edges)
+        if (BRep_Tool::Degenerated(e)) {
+          const int vi = vertices.FindIndex(TopExp::FirstVertex(e));
+          if (vi > 0) models[vi - 1].pseudoNormal += poleNormal(e, face, faceModels[f - 1], u0, u1, v0, v1);
+        }
     }
   }
   return models;
