@@ -9,7 +9,8 @@
 // a periodic B-spline (a cam) it missed the foot and answered the rim 0.1 mm farther
 // (measured against brute force). So every face whose box could beat its answer is also
 // searched by OCCT's generic extremum (Extrema_GenExtPS) from a dense grid, each minimum
-// it finds kept if it lies inside the face, and the closer answer wins.
+// it finds kept if it lies inside the face, and the closer answer wins (freeform faces
+// only: OCCT answers elementary surfaces in closed form).
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepBndLib.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
@@ -47,8 +48,15 @@ class ReferencePenetration final : public PenetrationModel {
       classifiers_.push_back(std::make_unique<BRepClass3d_SolidClassifier>(ex.Current()));
     distance_.LoadS2(shells_);
     distance_.SetFlag(Extrema_ExtFlag_MIN);
+    // Elementary surfaces have closed-form extrema in OCCT: only the others are re-checked.
     const TopTools_IndexedMapOfShape& faces = part_->faces();
-    for (int i = 1; i <= faces.Extent(); ++i) faceSearches_.push_back(std::make_unique<FaceSearch>(TopoDS::Face(faces(i))));
+    for (int i = 1; i <= faces.Extent(); ++i) {
+      const TopoDS_Face& face = TopoDS::Face(faces(i));
+      const GeomAbs_SurfaceType type = BRepAdaptor_Surface(face, false).GetType();
+      const bool elementary = type == GeomAbs_Plane || type == GeomAbs_Cylinder || type == GeomAbs_Cone ||
+                              type == GeomAbs_Sphere || type == GeomAbs_Torus;
+      faceSearches_.push_back(elementary ? nullptr : std::make_unique<FaceSearch>(face));
+    }
   }
 
   std::string_view name() const noexcept override { return "reference"; }
@@ -121,6 +129,7 @@ class ReferencePenetration final : public PenetrationModel {
   int crossCheckFaces(const gp_Pnt& x, double& d, gp_Pnt& foot) const {
     int closer = 0;
     for (std::size_t i = 0; i < faceSearches_.size(); ++i) {
+      if (!faceSearches_[i]) continue;
       FaceSearch& f = *faceSearches_[i];
       if (f.box.Distance(Bnd_Box(x, x)) >= d) continue;
       f.extrema.Perform(x);
