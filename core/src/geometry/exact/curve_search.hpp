@@ -97,11 +97,7 @@ CurveBranchResult branchAndBound1D(const C2& c2, const gp_Pnt& x, const CurvePie
   };
   push(piece.t0, piece.t1, pointAt(piece.t0), pointAt(piece.t1));
   while (count > 0 && evaluations < kBudget) {
-    int k = 0;
-    for (int i = 1; i < count; ++i)
-      if (cells[i].lower < cells[k].lower) k = i;
-    const Cell cell = cells[k];
-    cells[k] = cells[--count];
+    const Cell cell = popLowest(cells, count);
     if (cell.lower >= bound - accuracy) continue;
     const double w = cell.b - cell.a, m = 0.5 * (cell.a + cell.b);
     const gp_Pnt pm = pointAt(m);

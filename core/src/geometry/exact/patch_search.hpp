@@ -110,6 +110,18 @@ NewtonResult newtonInRect(const Surface& surface, const gp_Pnt& x, const UvRect&
   return finish(SearchEnd::Failed, u, v);
 }
 
+// The branch and bound's next cell: the one with the lowest bound, taken out of the first
+// `count` (few: a linear scan beats a heap here, and needs no allocation).
+template <class Cell>
+Cell popLowest(Cell* cells, int& count) noexcept {
+  int k = 0;
+  for (int i = 1; i < count; ++i)
+    if (cells[i].lower < cells[k].lower) k = i;
+  const Cell cell = cells[k];
+  cells[k] = cells[--count];
+  return cell;
+}
+
 // Where no cell could hide a closer foot (`certain`), or the budget ran out first.
 struct BranchResult {
   bool found = false;    // a foot closer than the bound, accepted by the caller
@@ -175,11 +187,7 @@ BranchResult branchAndBound(const Surface& surface, const gp_Pnt& x, const Surfa
   };
   push(patch.rect);
   while (count > 0 && evaluations < kBudget) {
-    int k = 0;
-    for (int i = 1; i < count; ++i)
-      if (cells[i].lower < cells[k].lower) k = i;
-    const Cell cell = cells[k];
-    cells[k] = cells[--count];
+    const Cell cell = popLowest(cells, count);
     if (cell.lower >= bound - accuracy) continue;
     const UvRect& r = cell.rect;
     double u = 0.5 * (r.u0 + r.u1), v = 0.5 * (r.v0 + r.v1);
