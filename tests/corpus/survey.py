@@ -35,9 +35,12 @@ EXTERNAL = [
 ]
 NIST = [
     ("nist_ctc_01", "nist_ctc_01_asme1_rd.stp",
-     "NIST combined test case 1: a machined plate part from a commercial CAD system (AP203, geometry only)"),
+     "NIST combined test case 1: a machined plate part from a commercial CAD system (139-face solid) plus "
+     "78 loose wireframe edges (construction geometry) in the same compound (AP203, geometry only)"),
     ("nist_ftc_06", "nist_ftc_06_asme1_rd.stp",
-     "NIST fully-toleranced test case 6: a machined part (AP203, geometry only)"),
+     "NIST fully-toleranced test case 6: a machined part in INCH units (read as mm: 144-face solid with "
+     "planes, cylinders, cones, spheres, tori, ellipse and B-spline edges) plus 73 loose wireframe edges "
+     "(construction geometry) in the same compound (AP203, geometry only)"),
     ("nist_ctc_04", "nist_ctc_04_asme1_rd.stp",
      "NIST combined test case 4: a large machined part (517-face solid: planes, cylinders, cones with "
      "apex, spheres, tori, B-spline edges) plus one open one-face shell of supplemental geometry that the "
@@ -129,11 +132,15 @@ def survey(spec):
         freecad_load_s=round(load_s, 3), bop_check_s=round(check_s, 2),
     )
     free_shells = len(shape.Shells) - sum(len(s.Shells) for s in shape.Solids)
+    in_shells = {e.hashCode() for sh in shape.Shells for e in sh.Edges}
+    loose_edges = sum(1 for e in shape.Edges if e.hashCode() not in in_shells)
+    if loose_edges:
+        entry["loose_edges"] = loose_edges  # edges in no shell (e.g. STEP wireframe construction geometry)
     if free_shells:
         entry["free_shells"] = free_shells  # shells outside any solid (e.g. STEP supplemental geometry)
-    if len(shape.Solids) > 1 or (shape.Solids and free_shells):
-        # check(True) on a compound reports touching solids (or a free face touching a solid) as
-        # self-interference: check each solid alone too
+    if len(shape.Solids) > 1 or (shape.Solids and (free_shells or loose_edges)):
+        # check(True) on a compound reports touching solids (or a free face or loose edge touching a
+        # solid) as self-interference: check each solid alone too
         entry["bop_check_per_solid"] = next((p for p in (bop_check(s)[0] for s in shape.Solids) if p != "ok"), "ok")
     if len(shape.Solids) > 1:
         entry["overlap_mm3"] = round(overlap_volume(shape), 3)
