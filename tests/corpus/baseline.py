@@ -53,6 +53,10 @@ def rung(r, name):
 
 
 def main():
+    if os.environ.get("BASELINE_MARKDOWN_ONLY"):   # rewrite baseline.md from baseline.json, run nothing
+        with open(os.path.join(HERE, "baseline.json")) as f:
+            write_markdown(json.load(f))
+        return
     with open(os.path.join(HERE, "corpus.json")) as f:
         corpus = json.load(f)
     only = [n for n in os.environ.get("BASELINE_ONLY", "").split(",") if n]
@@ -92,6 +96,43 @@ def fmt_err(b):
     return "%.3g" % (b["max_dist_err_m"] * 1e3), str(b["sign_errors"])
 
 
+def summary(results):
+    done = [r for r in results if not r.get("skipped")]
+    timeouts = [r["name"] for r in done if "timeout" in (r["info"]["outcome"], r["exact"]["outcome"])]
+    fails = [r for r in done if r["info"]["outcome"] != "ok" and r["info"]["outcome"] != "timeout"]
+    wrong, right = [], []
+    for r in done:
+        e = rung(r["exact"], "exact")
+        if e is None:
+            continue
+        (wrong if e["max_dist_err_m"] > WRONG_M or e["sign_errors"] > 0 else right).append((r, e))
+    out = ["", "## Summary", "",
+           "%d files: %d answered by the exact back end within 1 um of the reference with no sign errors, "
+           "%d answered with larger errors or sign errors, %d not loaded, %d timeouts%s." % (
+               len(done), len(right), len(wrong), len(fails), len(timeouts),
+               (" (" + ", ".join(timeouts) + ")") if timeouts else ""), ""]
+    if fails:
+        out.append("Not loaded (`parts info` and the bench both refuse the file):")
+        out.append("")
+        out += ["- `%s` (expect %s): %s" % (r["name"], r["expect"], r["info"]["outcome"]) for r in fails]
+        out.append("")
+    if wrong:
+        out.append("Exact back end off the reference (max error mm, sign errors; expect):")
+        out.append("")
+        out += ["- `%s`: %.3g mm, %d sign errors (expect %s)" % (r["name"], e["max_dist_err_m"] * 1e3,
+                                                              e["sign_errors"], r["expect"]) for r, e in wrong]
+        # the finest mesh rung is off by more than 0.1 mm too: the reference may be the one that is wrong
+        suspect = []
+        for r, e in wrong:
+            rows = [b for b in r.get("mesh", {}).get("result", {}).get("backends", []) if b["name"] == "mesh"]
+            if rows and min(b["max_dist_err_m"] for b in rows) > 1e-4:
+                suspect.append("`%s` (%.3g mm)" % (r["name"], min(b["max_dist_err_m"] for b in rows) * 1e3))
+        if suspect:
+            out += ["", "Where even the finest mesh rung is more than 0.1 mm off the reference, the reference "
+                    "itself is suspect (not decided here): " + ", ".join(suspect) + "."]
+    return out
+
+
 def write_markdown(results):
     lines = ["# Baseline: the CLI on the corpus", "",
              "Measured when the corpus was made (branch `corpus`, Release build, 2 shared cores).",
@@ -119,6 +160,7 @@ def write_markdown(results):
         lines.append("| %s | %d | %s | %s | %.2f | %s | %.1f | %s | %s | %s |" % (
             r["name"], r["faces"], r["expect"], r["info"]["outcome"].replace("|", "/"), r["info"]["seconds"],
             r["exact"]["outcome"].replace("|", "/"), r["exact"]["seconds"], err, sign, mesh))
+    lines += summary(results)
     with open(os.path.join(HERE, "baseline.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
 
