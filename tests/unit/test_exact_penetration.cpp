@@ -134,14 +134,16 @@ TEST(ExactPenetration, SolidsThatTouchAreOnePart) {
   }
 }
 
-// Deep inside a slab under a wavy B-spline face, points lie beyond the focal points of
-// its dips: the exhaustive search answers there, is counted, and agrees.
+// Inside a thin tube, points near its centre line lie near the focal points of its wall:
+// the exhaustive search answers there and is counted. So near the line that the wall is
+// nearly as close all round, it cannot prove its answer within a servo tick's budget, and
+// says so; its answers still agree with the reference.
 TEST(ExactPenetration, FocalPointsAreSearchedExhaustivelyAndCounted) {
-  const auto part = test::trimmedSurfacePart();
+  const auto part = test::sweptTubePart();
   const auto reference = makeReferencePenetration(part);
   const auto exact = makeExactPenetration(part);
   int fallbacks = 0, uncertain = 0, count = 0;
-  for (const Vec3& x : test::shellPoints(*part, 600, 12e-3, 5)) {
+  for (const Vec3& x : test::shellPoints(*part, 600, 2.5e-3, 5)) {
     QueryState se, sr;
     const Penetration e = exact->query(x, se), r = reference->query(x, sr);
     fallbacks += e.fallbacks > 0;
@@ -152,7 +154,8 @@ TEST(ExactPenetration, FocalPointsAreSearchedExhaustivelyAndCounted) {
   std::printf("focal points: %d of %d queries searched exhaustively, %d left uncertain\n", fallbacks, count, uncertain);
   EXPECT_GT(fallbacks, 0);
   EXPECT_LT(fallbacks, count / 2);
-  EXPECT_LE(uncertain, fallbacks / 4);
+  EXPECT_GT(uncertain, 0);
+  EXPECT_LE(uncertain, fallbacks);
 }
 
 TEST(ExactPenetration, WarmStartedPathAgreesWithReference) {

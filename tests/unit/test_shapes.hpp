@@ -358,6 +358,24 @@ inline TopoDS_Shape helicalThread() {
   return pipe.Shape();
 }
 
+// A tube of radius 2 mm swept along a bent B-spline path, capped: inside it, points near
+// its centre line are near the focal points of its wall.
+inline PartModelPtr sweptTubePart() {
+  const Handle(Geom_BSplineCurve) path =
+      interpolate({gp_Pnt(0, 0, 0), gp_Pnt(20, 5, 5), gp_Pnt(35, 25, 0), gp_Pnt(30, 45, 15)});
+  gp_Pnt start;
+  gp_Vec tangent;
+  path->D1(path->FirstParameter(), start, tangent);
+  const TopoDS_Wire circle =
+      BRepBuilderAPI_MakeWire(BRepBuilderAPI_MakeEdge(gp_Circ(gp_Ax2(start, gp_Dir(tangent)), 2.0)).Edge()).Wire();
+  BRepOffsetAPI_MakePipeShell pipe(BRepBuilderAPI_MakeWire(BRepBuilderAPI_MakeEdge(path).Edge()).Wire());
+  pipe.SetMode(true);
+  pipe.Add(circle);
+  pipe.Build();
+  pipe.MakeSolid();
+  return part(pipe.Shape(), "swept tube");
+}
+
 // Two boxes touching face to face, as one part (a weldment).
 inline PartModelPtr touchingBoxesPart() {
   return PartModel::fromShape(compoundOf({BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 40, 30, 20).Shape(),

@@ -1,9 +1,9 @@
 // The reference back end: OCCT's own answer, used as the truth in tests and benchmarks.
 // BRepExtrema_DistShapeShape against the shells (against a solid it answers 0 for every
-// point inside) and BRepClass3d_SolidClassifier for the sign. Both keep what they
-// precompute about the part (boxes of the faces, the solid explorer) across queries, so
-// that the ladder compares against OCCT at its best; that state is mutable, so queries
-// are serialised with a mutex. Slow, and it allocates: never on the servo thread.
+// point inside) and ray parity for the sign. Both keep what they precompute about the part
+// (boxes of the faces) across queries, so that the ladder compares against OCCT at its
+// best; that state is mutable, so queries are serialised with a mutex. Slow, and it
+// allocates: never on the servo thread.
 //
 // BRepExtrema alone is not always the truth: on a face of a surface of linear extrusion of
 // a periodic B-spline (a cam) it missed the foot and answered the rim 0.1 mm farther
@@ -19,7 +19,8 @@
 #include <Bnd_Box.hxx>
 #include <Extrema_GenExtPS.hxx>
 #include <Extrema_POnSurf.hxx>
-#include <BRepClass3d_SolidClassifier.hxx>
+#include <IntCurvesFace_ShapeIntersector.hxx>
+#include <gp_Lin.hxx>
 #include <BRepExtrema_DistShapeShape.hxx>
 #include <BRep_Builder.hxx>
 #include <Standard_Failure.hxx>
@@ -45,7 +46,7 @@ class ReferencePenetration final : public PenetrationModel {
     builder.MakeCompound(shells_);
     for (TopExp_Explorer ex(part_->shape(), TopAbs_SHELL); ex.More(); ex.Next()) builder.Add(shells_, ex.Current());
     for (TopExp_Explorer ex(part_->shape(), TopAbs_SOLID); ex.More(); ex.Next())
-      classifiers_.push_back(std::make_unique<BRepClass3d_SolidClassifier>(ex.Current()));
+      solids_.push_back(std::make_unique<SolidRays>(ex.Current(), 1e-9 * part_->characteristicLength() / s_));
     distance_.LoadS2(shells_);
     distance_.SetFlag(Extrema_ExtFlag_MIN);
     // Elementary surfaces have closed-form extrema in OCCT: only the others are re-checked.
@@ -60,7 +61,7 @@ class ReferencePenetration final : public PenetrationModel {
   }
 
   std::string_view name() const noexcept override { return "reference"; }
-  std::string setting() const override { return "BRepExtrema + classifier"; }
+  std::string setting() const override { return "BRepExtrema + ray parity"; }
   std::size_t memoryBytes() const noexcept override { return sizeof(*this); }
   bool realTimeSafe() const noexcept override { return false; }
 
@@ -148,11 +149,30 @@ class ReferencePenetration final : public PenetrationModel {
     return closer;
   }
 
-  TopAbs_State classify(const gp_Pnt& x) const {
-    for (const auto& classifier : classifiers_) {
-      classifier->Perform(x, 1e-9 * part_->characteristicLength() / s_);
-      if (classifier->State() == TopAbs_IN) return TopAbs_IN;
+  // Whether x is inside a solid: the parity of the crossings of rays from x with its
+  // faces, the majority of five rays in unrelated directions. (BRepClass3d_SolidClassifier,
+  // and so FreeCAD's isInside(), called points in the 1.5 mm wall of a cup made by
+  // makeThickness outside, where rays cross its faces an odd number of times.) A ray that
+  // grazes an edge or a face may count wrong; the others outvote it.
+  struct SolidRays {
+    IntCurvesFace_ShapeIntersector intersector;
+    explicit SolidRays(const TopoDS_Shape& solid, double tolerance) { intersector.Load(solid, tolerance); }
+    bool contains(const gp_Pnt& x) {
+      static const gp_Dir directions[] = {gp_Dir(0.5773, 0.3219, 0.7506), gp_Dir(-0.6917, 0.4373, 0.5747),
+                                          gp_Dir(0.1201, -0.9312, 0.3442), gp_Dir(-0.3541, -0.2789, -0.8926),
+                                          gp_Dir(0.8327, -0.4519, -0.3201)};
+      int inside = 0;
+      for (const gp_Dir& d : directions) {
+        intersector.Perform(gp_Lin(x, d), 0, Precision::Infinite());
+        inside += intersector.IsDone() && intersector.NbPnt() % 2 == 1;
+      }
+      return 2 * inside > static_cast<int>(std::size(directions));
     }
+  };
+
+  TopAbs_State classify(const gp_Pnt& x) const {
+    for (const auto& solid : solids_)
+      if (solid->contains(x)) return TopAbs_IN;
     return TopAbs_OUT;
   }
 
@@ -161,7 +181,7 @@ class ReferencePenetration final : public PenetrationModel {
   TopoDS_Compound shells_;
   mutable std::mutex mutex_;
   mutable BRepExtrema_DistShapeShape distance_;
-  std::vector<std::unique_ptr<BRepClass3d_SolidClassifier>> classifiers_;
+  std::vector<std::unique_ptr<SolidRays>> solids_;
   std::vector<std::unique_ptr<FaceSearch>> faceSearches_;
 };
 

@@ -42,7 +42,7 @@ Analysis analyse(const CurveD2& curve, double t0, double t1, double tolerance) {
       havePrevious = true;
     }
   }
-  piece.kappa *= 1.25;  // sampled: it may peak between samples
+  piece.kappa *= 1.1;  // sampled: it may peak between samples
   // Between samples the curve leaves their hull by at most h^2 |C''| / 8: doubled, as
   // |C''| is sampled too.
   const double sag = 0.25 * h * h * maxD2 + tolerance;

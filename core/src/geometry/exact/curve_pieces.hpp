@@ -41,7 +41,7 @@ using CurveD2 = std::function<void(double t, gp_Pnt& p, gp_Vec& d1, gp_Vec& d2)>
 
 struct PieceOptions {
   double maxTurn_rad = 0.3;
-  double maxSpreadCurvature = 0.3;  // a piece's half length is at most this over its curvature
+  double maxSpreadCurvature = 0.2;  // a piece's half length is at most this over its curvature
   int maxPieces = 1024;  // per edge
   int maxDepth = 16;
   double tolerance = 0;  // model units, added to every bound

@@ -66,12 +66,12 @@ struct CurveBranchResult {
 // Newton from their middle when that already beats it.
 template <class C2, class Accept>
 CurveBranchResult branchAndBound1D(const C2& c2, const gp_Pnt& x, const CurvePiece& piece, double bound,
-                                   Accept&& accept, double accuracy, double tolerance) noexcept {
+                                   Accept&& accept, double accuracy, double tolerance, int& budget) noexcept {
   struct Cell {
     double a, b, lower;
     gp_Pnt pa, pb;  // the curve at a and b
   };
-  constexpr int kCapacity = 64, kBudget = 400;  // bounded, as for surfaces
+  constexpr int kCapacity = 64;  // and the caller's budget of evaluations, as for surfaces
   Cell cells[kCapacity];
   int count = 0, evaluations = 0;
   CurveBranchResult result;
@@ -96,7 +96,7 @@ CurveBranchResult branchAndBound1D(const C2& c2, const gp_Pnt& x, const CurvePie
     cells[count++] = {a, b, lower, pa, pb};
   };
   push(piece.t0, piece.t1, pointAt(piece.t0), pointAt(piece.t1));
-  while (count > 0 && evaluations < kBudget) {
+  while (count > 0 && evaluations < budget) {
     const Cell cell = popLowest(cells, count);
     if (cell.lower >= bound - accuracy) continue;
     const double w = cell.b - cell.a, m = 0.5 * (cell.a + cell.b);
@@ -118,6 +118,7 @@ CurveBranchResult branchAndBound1D(const C2& c2, const gp_Pnt& x, const CurvePie
   }
   for (int i = 0; i < count; ++i)
     if (cells[i].lower < bound - accuracy) result.certain = false;
+  budget -= evaluations;
   return result;
 }
 

@@ -124,12 +124,12 @@ EdgeSearch EdgeModel::project(const gp_Pnt& x, int piece, bool warm, double& t, 
   return search;
 }
 
-EdgeSearch EdgeModel::exhaust(const gp_Pnt& x, int index, double bound, EdgeFoot& foot) const noexcept {
+EdgeSearch EdgeModel::exhaust(const gp_Pnt& x, int index, double bound, EdgeFoot& foot, int& budget) const noexcept {
   const auto curve = [this](double s, gp_Pnt& p, gp_Vec& d1, gp_Vec& dd2) { d2(s, p, d1, dd2); };
   EdgeFoot candidate;
   const CurveBranchResult r = branchAndBound1D(
       curve, x, pieces_[index], bound, [&](double t) { return accept(x, t, INFINITY, candidate); }, accuracy_,
-      tolerance_);
+      tolerance_, budget);
   EdgeSearch search;
   search.certain = r.certain;
   search.found = r.found && accept(x, r.t, bound, foot);

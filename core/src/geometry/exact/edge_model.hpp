@@ -48,7 +48,8 @@ class EdgeModel {
   // search ended out.
   EdgeSearch project(const gp_Pnt& x, int piece, bool warm, double& t, double bound, EdgeFoot& foot) const noexcept;
   // The exhaustive search of one piece (the fallback where `project` was not certain).
-  EdgeSearch exhaust(const gp_Pnt& x, int piece, double bound, EdgeFoot& foot) const noexcept;
+  // `budget`: the surface or curve evaluations it may still spend, less what it spent.
+  EdgeSearch exhaust(const gp_Pnt& x, int piece, double bound, EdgeFoot& foot, int& budget) const noexcept;
   // Whether a Newton search on the edge (or piece) is certain when only feet closer than
   // `best` matter.
   bool certainFor(int piece, double best) const noexcept { return piece < 0 || pieces_[piece].clearOfFocus(best); }

@@ -147,6 +147,10 @@ struct Search {
   } unsettled;
   int fallbacks = 0;
   bool certain = true;
+  // Surface or curve evaluations the exhaustive searches of one query may spend: what a
+  // servo tick can afford (0.1-0.5 ms). A search left without any is not certain.
+  int budget = kFallbackBudget;
+  static constexpr int kFallbackBudget = 1000;
 };
 
 class ExactPenetration final : public PenetrationModel {
@@ -314,15 +318,19 @@ void ExactPenetration::evaluate(const FeatureRef& f, const WarmStart* warm, Sear
 // The exhaustive search of one patch or piece (the fallback), counted.
 void ExactPenetration::exhaust(const FeatureRef& f, Search& s) const noexcept {
   ++s.fallbacks;
+  if (s.budget <= 0) {
+    s.certain = false;
+    return;
+  }
   const double bound = s.best.distance + tie_;
   if (f.kind == Feature::Face) {
     FaceFoot foot;
-    const FaceSearch r = faces_[f.index].exhaust(s.x, f.piece, bound, foot);
+    const FaceSearch r = faces_[f.index].exhaust(s.x, f.piece, bound, foot, s.budget);
     if (r.found && better(Feature::Face, foot.distance, s.best)) s.best = faceCandidate(f, foot);
     s.certain = s.certain && r.certain;
   } else {
     EdgeFoot foot;
-    const EdgeSearch r = edges_[f.index].exhaust(s.x, f.piece, bound, foot);
+    const EdgeSearch r = edges_[f.index].exhaust(s.x, f.piece, bound, foot, s.budget);
     if (r.found && better(Feature::Edge, foot.distance, s.best)) s.best = candidate(f, foot.t, 0, foot.point, foot.distance);
     s.certain = s.certain && r.certain;
   }

@@ -160,12 +160,19 @@ void FaceModel::buildPatches() {
 
 // A patch of an offset surface's basis made to bound the offset surface: its bounds grow by
 // |d|, its second derivatives by the normal's turning (d N_uu is about d k |S_u|^2... with
-// the sampled margins).
+// the sampled margins). Its spread and curvature stay the basis's: the focal tests are
+// made on the basis, at the distance from it.
 void FaceModel::growForOffset(SurfacePatch& p) const {
   const double d = std::abs(offset_), k = std::max(p.kTowards, p.kAway);
   p.bound.box = p.bound.box.inflated(d);
-  if (p.bound.oriented()) p.bound.half += Vec3::Constant(d);
-  p.spread += d;
+  if (p.bound.oriented()) {
+    // Every normal is within `turn` of the axis: the offset moves a point d along the
+    // axis, give or take d (1 - cos turn), and d sin turn across it.
+    const double turn = std::min(1.1 * p.turn + 0.01, M_PI / 2);  // sampled: with a margin
+    const double across = d * std::sin(turn), along = d * (1 - std::cos(turn));
+    p.bound.centre += offset_ * Vec3(p.bound.axes.col(2));
+    p.bound.half += Vec3(across, across, along);
+  }
   const double grow = 1 + 2 * d * k;
   p.maxSuu *= grow;
   p.maxSuv *= grow;
@@ -360,14 +367,14 @@ FaceSearch FaceModel::project(const gp_Pnt& x, int patch, const FaceStart& start
   return projectPatch(x, patch, start, bound, foot, best);
 }
 
-FaceSearch FaceModel::exhaust(const gp_Pnt& x, int index, double bound, FaceFoot& foot) const noexcept {
+FaceSearch FaceModel::exhaust(const gp_Pnt& x, int index, double bound, FaceFoot& foot, int& budget) const noexcept {
   const SurfacePatch& patch = patches_[index];
   FaceFoot candidate;
   const BranchResult r = branchAndBound(
       *this, x, patch, bound,
       [&](double u, double v) { return accept(x, u, v, INFINITY, candidate); },
       [&](const UvRect& cell) { return domain_.rectOutside(cell.u0, cell.u1, cell.v0, cell.v1); }, accuracy_,
-      precision_);
+      precision_, budget);
   FaceSearch search;
   search.certain = r.certain;
   if (r.found && accept(x, r.u, r.v, bound, foot)) search.found = true;

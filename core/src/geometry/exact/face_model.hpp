@@ -65,12 +65,13 @@ class FaceModel {
   FaceSearch project(const gp_Pnt& x, int patch, const FaceStart& start, double bound, FaceFoot& foot,
                      const FaceFoot* best = nullptr) const noexcept;
   // The exhaustive search of one patch (the fallback where `project` was not certain).
-  FaceSearch exhaust(const gp_Pnt& x, int patch, double bound, FaceFoot& foot) const noexcept;
+  // `budget`: the surface or curve evaluations it may still spend, less what it spent.
+  FaceSearch exhaust(const gp_Pnt& x, int patch, double bound, FaceFoot& foot, int& budget) const noexcept;
   // Whether a Newton search on the face (or patch) is certain for x when only feet closer
   // than `best` matter: always on the elementary faces, where x is clear of the patch's
   // focal points on the others.
   bool certainFor(int patch, const Vec3& x, double best) const noexcept {
-    return patch < 0 || patches_[patch].clearOfFocus(x, best);
+    return patch < 0 || patches_[patch].clearOfFocus(x, best + std::abs(offset_));
   }
 
   bool contains(double u, double v) const noexcept { return domain_.contains(u, v); }

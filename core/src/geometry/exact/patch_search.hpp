@@ -163,14 +163,15 @@ double cellLowerBound(const Surface& surface, const gp_Pnt& x, const SurfacePatc
 // already beats it. `outside(rect)` says whether a cell lies wholly outside the face.
 template <class Surface, class Accept, class Outside>
 BranchResult branchAndBound(const Surface& surface, const gp_Pnt& x, const SurfacePatch& patch, double bound,
-                            Accept&& accept, Outside&& outside, double accuracy, double precision) noexcept {
+                            Accept&& accept, Outside&& outside, double accuracy, double precision,
+                            int& budget) noexcept {
   struct Cell {
     UvRect rect;
     double lower;  // no point of the cell is closer than this
   };
-  // Bounded, as the servo thread may run this: about 0.1-0.5 ms at most (cubic to
-  // degree-14 rational B-splines).
-  constexpr int kCapacity = 128, kBudget = 600;
+  // Bounded by the caller's budget of surface evaluations, as the servo thread may run
+  // this: a query's whole budget is about 0.1-0.5 ms (cubic to degree-14 rational).
+  constexpr int kCapacity = 128;
   Cell cells[kCapacity];
   int count = 0, evaluations = 0;
   BranchResult result;
@@ -186,7 +187,7 @@ BranchResult branchAndBound(const Surface& surface, const gp_Pnt& x, const Surfa
     cells[count++] = {r, lower};
   };
   push(patch.rect);
-  while (count > 0 && evaluations < kBudget) {
+  while (count > 0 && evaluations < budget) {
     const Cell cell = popLowest(cells, count);
     if (cell.lower >= bound - accuracy) continue;
     const UvRect& r = cell.rect;
@@ -212,7 +213,10 @@ BranchResult branchAndBound(const Surface& surface, const gp_Pnt& x, const Surfa
           bound = d;
           result = {true, u, v, d, result.certain};
         }
-        if (global) return result;
+        if (global) {
+          budget -= evaluations;
+          return result;
+        }
       }
     }
     // Halve across the longer side (in space).
@@ -228,6 +232,7 @@ BranchResult branchAndBound(const Surface& surface, const gp_Pnt& x, const Surfa
   }
   for (int i = 0; i < count; ++i)
     if (cells[i].lower < bound - accuracy) result.certain = false;
+  budget -= evaluations;
   return result;
 }
 

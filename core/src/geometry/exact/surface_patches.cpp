@@ -95,21 +95,24 @@ Analysis analyse(const SurfaceD2& surface, const UvRect& r, double tolerance) {
   const bool flat = meanNorm > 0 && a.maxTurn < M_PI / 2;
   LeafBound& bound = a.patch.bound;
   bound = LeafBound::around(points, flat ? toVec(mean.XYZ()) : Vec3::Zero(), true, sag);
+  a.patch.searchedCentre = bound.centre;
+  a.patch.searchedHalfThickness = bound.oriented() ? bound.half.z() : 0;
+  a.patch.turn = a.maxTurn;
   // Sampled curvature: with a margin, as it may peak between samples.
-  a.patch.kTowards = 1.25 * extreme.k1;
-  a.patch.kAway = 1.25 * extreme.k2;
+  a.patch.kTowards = 1.1 * extreme.k1;
+  a.patch.kAway = 1.1 * extreme.k2;
   a.patch.maxSuu = 2 * maxSuu;
   a.patch.maxSuv = 2 * maxSuv;
   a.patch.maxSvv = 2 * maxSvv;
   a.patch.lipschitzU = 1.25 * (maxSu + 0.5 * (hu * maxSuu + hv * maxSuv));
   a.patch.lipschitzV = 1.25 * (maxSv + 0.5 * (hv * maxSvv + hu * maxSuv));
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) {
-      SurfaceJet& s = a.patch.seeds[3 * i + j];
-      s.u = r.u0 + r.du() * (2 * i + 1) / 6.0;
-      s.v = r.v0 + r.dv() * (2 * j + 1) / 6.0;
-      surface(s.u, s.v, s.p, s.du, s.dv, s.duu, s.dvv, s.duv);
-    }
+  const double at[SurfacePatch::kSeeds][2] = {{0.5, 0.5}, {0.25, 0.25}, {0.75, 0.25}, {0.25, 0.75}, {0.75, 0.75}};
+  for (int k = 0; k < SurfacePatch::kSeeds; ++k) {
+    SurfaceJet& s = a.patch.seeds[k];
+    s.u = r.u0 + r.du() * at[k][0];
+    s.v = r.v0 + r.dv() * at[k][1];
+    surface(s.u, s.v, s.p, s.du, s.dv, s.duu, s.dvv, s.duv);
+  }
   for (const Vec3& q : points) a.patch.spread = std::max(a.patch.spread, (q - bound.centre).norm());
   a.patch.spread += sag;
   return a;

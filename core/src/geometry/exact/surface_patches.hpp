@@ -9,7 +9,7 @@
 //    holds one local minimum of the distance at most, so a Newton search that ends inside
 //    the patch has found its foot and one pushed out of it proves there is none inside.
 //    Where it is not, a slower exhaustive search (branch and bound) answers;
-//  - bounds of the surface's derivatives for that search, and a 3x3 grid of start points.
+//  - bounds of the surface's derivatives for that search, and five start points.
 // Bounds and curvature come from samples, with safety margins: the cut is fine enough that
 // a surface of bounded curvature cannot escape them between samples.
 #include <gp_Pnt.hxx>
@@ -37,7 +37,10 @@ struct SurfacePatch {
   double spread = 0;  // every point of the patch lies within this of the bound's centre
   double lipschitzU = 0, lipschitzV = 0;  // bounds of |S_u|, |S_v| on the patch
   double maxSuu = 0, maxSuv = 0, maxSvv = 0;  // bounds of the second derivatives
-  SurfaceJet seeds[9];  // a first Newton step from a seed costs no evaluation
+  // Start points: the centre and the middles of the four quarters. A first Newton step
+  // from a seed costs no evaluation.
+  static constexpr int kSeeds = 5;
+  SurfaceJet seeds[kSeeds];
 
   // Whether a Newton search on the patch that ended inside it, at a point of the surface
   // at distance d from x, found the patch's closest point. The ball of radius d about x
@@ -54,11 +57,16 @@ struct SurfacePatch {
     return (best + spread) * curvatureTowards(x) < kFocalMargin;
   }
   // The largest curvature bending towards x's side of the patch (both sides', when x lies
-  // within its thickness).
+  // within its thickness). The side is the searched surface's: an offset face's patch
+  // bounds the offset surface but is searched, and bends, on its basis.
   double curvatureTowards(const Vec3& x) const noexcept {
-    const int side = bound.side(x);
-    return side > 0 ? kTowards : side < 0 ? kAway : std::max(kTowards, kAway);
+    if (!bound.oriented()) return std::max(kTowards, kAway);
+    const double h = bound.axes.col(2).dot(x - searchedCentre);
+    return h > searchedHalfThickness ? kTowards : h < -searchedHalfThickness ? kAway : std::max(kTowards, kAway);
   }
+  Vec3 searchedCentre = Vec3::Zero();  // the searched surface's oriented box: centre
+  double searchedHalfThickness = 0;    // and half thickness along the normal
+  double turn = 0;                     // largest angle of a normal from the mean
   static constexpr double kFocalMargin = 0.9;
 };
 
@@ -68,8 +76,8 @@ using SurfaceD2 = std::function<void(double u, double v, gp_Pnt& p, gp_Vec& du, 
 
 struct PatchOptions {
   double maxTurn_rad = 0.3;   // the normal turns by at most about this on a patch
-  double maxSpreadCurvature = 0.3;  // and its radius is at most this over its curvature
-  int maxPatches = 4096;      // per face
+  double maxSpreadCurvature = 0.2;  // and its radius is at most this over its curvature
+  int maxPatches = 16384;     // per face (about 1 KB each)
   int maxDepth = 12;          // halvings of one knot span
   double tolerance = 0;       // model units, added to every bound
 };

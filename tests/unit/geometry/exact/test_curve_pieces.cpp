@@ -97,8 +97,10 @@ TEST(CurveSearch, ExhaustiveSearchFindsTheClosestOfSeveralMinima) {
     whole.maxD2 = std::max(whole.maxD2, p.maxD2);
   }
   for (const gp_Pnt& x : {gp_Pnt(0, 0, 5), gp_Pnt(9, -3, 2), gp_Pnt(-20, 12, 0)}) {
+    int budget = 400;
     const CurveBranchResult r =
-        branchAndBound1D(wave, x, whole, INFINITY, [](double) { return true; }, 1e-8, 1e-10);
+        branchAndBound1D(wave, x, whole, INFINITY, [](double) { return true; }, 1e-8, 1e-10, budget);
+    EXPECT_LT(budget, 400);  // it was spent, and said how much
     ASSERT_TRUE(r.found);
     EXPECT_TRUE(r.certain);
     EXPECT_NEAR(r.distance, bruteForce(wave, x, whole.t0, whole.t1), 1e-7);

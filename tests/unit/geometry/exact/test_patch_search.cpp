@@ -52,7 +52,7 @@ TEST(PatchSearch, NewtonFindsTheFootOfNearPoints) {
       const bool footInside = bu > p.rect.u0 + 1e-6 * p.rect.du() && bu < p.rect.u1 - 1e-6 * p.rect.du() &&
                               bv > p.rect.v0 + 1e-6 * p.rect.dv() && bv < p.rect.v1 - 1e-6 * p.rect.dv();
       if (!footInside || !p.clearOfFocus(Vec3(x.X(), x.Y(), x.Z()), truth)) continue;
-      const NewtonResult n = newtonInRect(s, x, p.rect, p.seeds[4], true, 1e-9, 1e-4);
+      const NewtonResult n = newtonInRect(s, x, p.rect, p.seeds[0], true, 1e-9, 1e-4);
       ASSERT_EQ(n.end, SearchEnd::Interior);
       EXPECT_NEAR(s.value(n.u, n.v).Distance(x), truth, 1e-9);
       ++interior;
@@ -69,7 +69,7 @@ TEST(PatchSearch, NewtonIsPushedOutOfAPatchWithoutFoot) {
   double bu, bv;
   bruteForce(s, x, p.rect, bu, bv);
   ASSERT_TRUE(bu == p.rect.u0 || bu == p.rect.u1 || bv == p.rect.v0 || bv == p.rect.v1);
-  EXPECT_EQ(newtonInRect(s, x, p.rect, p.seeds[4], true, 1e-9, 1e-4).end, SearchEnd::Boundary);
+  EXPECT_EQ(newtonInRect(s, x, p.rect, p.seeds[0], true, 1e-9, 1e-4).end, SearchEnd::Boundary);
 }
 
 // One patch spanning both dips of the sheet, seen from below: Newton from the middle may
@@ -93,8 +93,10 @@ TEST(PatchSearch, ExhaustiveSearchFindsTheCloserOfTwoMinima) {
     double bu, bv;
     const double truth = bruteForce(s, x, whole.rect, bu, bv);
     ASSERT_LT(s.value(bu, bv).X(), 0);  // the left dip is the closer
+    int budget = 5000;
     const BranchResult r = branchAndBound(
-        s, x, whole, INFINITY, [](double, double) { return true; }, [](const UvRect&) { return false; }, 1e-7, 1e-9);
+        s, x, whole, INFINITY, [](double, double) { return true; }, [](const UvRect&) { return false; }, 1e-7, 1e-9,
+        budget);
     ASSERT_TRUE(r.found);
     EXPECT_NEAR(r.distance, truth, 1e-7);
     EXPECT_LT(s.value(r.u, r.v).X(), 0);
@@ -110,9 +112,10 @@ TEST(PatchSearch, ExhaustiveSearchSaysWhenItIsNotSure) {
     const double k = std::max(p.kTowards, p.kAway);
     if (k < 0.08) continue;
     const Vec3 c = p.bound.centre + p.bound.axes.col(2) / (p.kTowards > p.kAway ? k : -k);
+    int budget = 600;
     const BranchResult r = branchAndBound(
         s, gp_Pnt(c.x(), c.y(), c.z()), p, INFINITY, [](double, double) { return true; },
-        [](const UvRect&) { return false; }, 1e-7, 1e-9);
+        [](const UvRect&) { return false; }, 1e-7, 1e-9, budget);
     unsure += !r.certain;
   }
   EXPECT_GT(unsure, 0);
