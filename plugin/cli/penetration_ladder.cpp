@@ -8,6 +8,7 @@
 
 #include "hapticgrasp/geometry/backends.hpp"
 #include "hapticgrasp/geometry/sample_parts.hpp"
+#include "hapticgrasp/geometry/surface_path.hpp"
 #include "hapticgrasp/geometry/surface_sampler.hpp"
 
 namespace hg::cli {
@@ -22,29 +23,6 @@ Percentiles percentiles(std::vector<double> v) {
   if (v.empty()) return {};
   std::sort(v.begin(), v.end());
   return {v[v.size() / 2], v[static_cast<std::size_t>(0.99 * (v.size() - 1))], v.back()};
-}
-
-// A fingertip tracing the surface: it keeps `depth_m` inside and moves `step_m` per tick
-// along the tangent plane, so it runs over edges, down fillets and into holes.
-std::vector<Vec3> tracePath(const PenetrationModel& exact, const SurfaceSampler& sampler, const LadderOptions& o,
-                            std::mt19937& rng) {
-  std::normal_distribution<double> gauss;
-  auto [start, n] = sampler.sample(rng);
-  Vec3 heading = Vec3(gauss(rng), gauss(rng), gauss(rng));
-  heading = (heading - heading.dot(n) * n).normalized();
-  QueryState state;
-  Vec3 x = start - o.depth_m * n;
-  std::vector<Vec3> path;
-  path.reserve(o.coherentTicks);
-  for (int i = 0; i < o.coherentTicks; ++i) {
-    const Penetration p = exact.query(x + o.step_m * heading, state);
-    if (p.feature == Feature::None) break;
-    x = p.foot - o.depth_m * p.normal;
-    const Vec3 along = heading - heading.dot(p.normal) * p.normal;
-    if (along.norm() > 1e-6) heading = along.normalized();
-    path.push_back(x);
-  }
-  return path;
 }
 
 struct Answers {
@@ -119,7 +97,8 @@ LadderResult runPenetrationLadder(const LadderOptions& o, const std::function<vo
   std::mt19937 rng(o.seed);
   const SurfaceSampler sampler(*part);
   const std::vector<Vec3> random = sampler.shell(o.randomQueries, o.shell_m, rng);
-  const std::vector<Vec3> path = tracePath(*makeExactPenetration(part), sampler, o, rng);
+  const std::vector<Vec3> path =
+      traceSurfacePath(*makeExactPenetration(part), sampler, o.coherentTicks, o.step_m, o.depth_m, rng);
   const std::size_t checkEvery = std::max<std::size_t>(1, path.size() / std::max(1, o.referenceChecks));
   std::vector<Vec3> checked;
   for (std::size_t i = 0; i < path.size(); i += checkEvery) checked.push_back(path[i]);

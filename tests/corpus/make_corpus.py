@@ -600,7 +600,7 @@ def defect_tight_sweep():
     return path.makePipeShell([circle], True, True)
 
 
-@part("defect_step_tolerances", "healed",
+@part("defect_step_tolerances", "exact",
       "A bracket with a 0.4 mm chamfer and small holes, written to STEP and read back, then "
       "its tolerances blown up as sloppy exporters do (vertices 0.3 mm, edges 0.2 mm): the "
       "chamfer's vertices lie within the sum of their tolerances")
@@ -624,7 +624,7 @@ def defect_step_tolerances():
 
 # ---------------------------------------------------------------- defects found on the way
 
-@part("defect_torus_self_overlap", "robust",
+@part("defect_torus_self_overlap", "exact",
       "Part.makeTorus(3, 5): a full torus whose minor radius exceeds its major. FreeCAD calls it "
       "valid and the BOP check finds nothing, yet its face passes through itself along the axis "
       "(the lemon inside is enclosed twice)")
