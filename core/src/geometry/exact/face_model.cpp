@@ -303,7 +303,7 @@ FaceSearch FaceModel::projectPatch(const gp_Pnt& x, int index, FaceStart start, 
     // Beside it, the search starts from its nearest point of the rectangle, from which
     // it is pushed out at once unless the patch holds a foot of its own.
     const double bu = near(best->u, rect.u0, uPeriod_), bv = near(best->v, rect.v0, vPeriod_);
-    if (inRect(bu, bv) && patch.minimumIsGlobal(xv, bound + std::abs(offset_))) {
+    if (inRect(bu, bv) && (patch.focalClear(xv) || patch.minimumIsGlobal(xv, bound + std::abs(offset_)))) {
       search.u = best->u;
       search.v = best->v;
       return search;
@@ -354,9 +354,9 @@ FaceSearch FaceModel::projectPatch(const gp_Pnt& x, int index, FaceStart start, 
   const double d = std::abs(offset_);
   if (n.end == SearchEnd::Interior) {
     const gp_Pnt basisPoint = n.jet.pointAt(n.u - n.jet.u, n.v - n.jet.v);
-    search.certain = patch.minimumIsGlobal(xv, basisPoint.Distance(x));
+    search.certain = patch.focalClear(xv) || patch.minimumIsGlobal(xv, basisPoint.Distance(x));
   } else {
-    search.certain = n.end != SearchEnd::Failed && patch.clearOfFocus(xv, bound + d);
+    search.certain = n.end != SearchEnd::Failed && (patch.focalClear(xv) || patch.clearOfFocus(xv, bound + d));
   }
   return search;
 }

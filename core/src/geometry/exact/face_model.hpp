@@ -71,7 +71,7 @@ class FaceModel {
   // than `best` matter: always on the elementary faces, where x is clear of the patch's
   // focal points on the others.
   bool certainFor(int patch, const Vec3& x, double best) const noexcept {
-    return patch < 0 || patches_[patch].clearOfFocus(x, best + std::abs(offset_));
+    return patch < 0 || patches_[patch].focalClear(x) || patches_[patch].clearOfFocus(x, best + std::abs(offset_));
   }
 
   bool contains(double u, double v) const noexcept { return domain_.contains(u, v); }

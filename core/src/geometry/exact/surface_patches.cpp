@@ -7,7 +7,9 @@
 namespace hg::geometry::exact {
 namespace {
 
-constexpr int kGrid = 4;  // samples per side of a rectangle under analysis: (kGrid + 1)^2
+// Samples per side of a rectangle under analysis, (grid + 1)^2 in all: a quick look decides
+// most cuts, the full one makes the patch (and may still call for a cut).
+constexpr int kQuickGrid = 2, kFullGrid = 4;
 
 Vec3 toVec(const gp_XYZ& p) { return {p.X(), p.Y(), p.Z()}; }
 
@@ -35,17 +37,18 @@ Principal principalCurvatures(const gp_Vec& du, const gp_Vec& dv, const gp_Vec& 
   return {H + root, H - root};
 }
 
-Analysis analyse(const SurfaceD2& surface, const UvRect& r, double tolerance) {
+Analysis analyse(const SurfaceD2& surface, const UvRect& r, double tolerance, int kGrid) {
   Analysis a;
   a.patch.rect = r;
-  gp_Pnt p[kGrid + 1][kGrid + 1];
-  gp_Vec normal[kGrid + 1][kGrid + 1];
-  bool regular[kGrid + 1][kGrid + 1];
+  gp_Pnt p[kFullGrid + 1][kFullGrid + 1];
+  gp_Vec normal[kFullGrid + 1][kFullGrid + 1];
+  bool regular[kFullGrid + 1][kFullGrid + 1];
   double maxSu = 0, maxSv = 0, maxSuu = 0, maxSvv = 0, maxSuv = 0;
   Principal extreme;  // the largest curvature towards n and against it (as -k)
 
   gp_Vec mean(0, 0, 0);
   const double hu = r.du() / kGrid, hv = r.dv() / kGrid;
+  const bool full = kGrid == kFullGrid;
   for (int i = 0; i <= kGrid; ++i)
     for (int j = 0; j <= kGrid; ++j) {
       gp_Vec su, sv, suu, svv, suv;
@@ -101,13 +104,36 @@ Analysis analyse(const SurfaceD2& surface, const UvRect& r, double tolerance) {
   // Sampled curvature: with a margin, as it may peak between samples.
   a.patch.kTowards = 1.1 * extreme.k1;
   a.patch.kAway = 1.1 * extreme.k2;
+  // The ranges of N's components in the patch's frame and of (c - P).N, from the samples;
+  // between samples N turns by at most k times half the spacing.
+  if (bound.oriented()) {
+    const double spacing = std::max(hu * maxSu, hv * maxSv);
+    const double turnSlack = 0.5 * spacing * std::max(a.patch.kTowards, a.patch.kAway) + 1e-9;
+    Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
+    double hLo = INFINITY, hHi = -INFINITY, reach = 0;
+    for (int i = 0; i <= kGrid; ++i)
+      for (int j = 0; j <= kGrid; ++j) {
+        if (!regular[i][j]) continue;
+        const Vec3 n = toVec(normal[i][j].XYZ()), local = bound.axes.transpose() * n;
+        lo = lo.cwiseMin(local);
+        hi = hi.cwiseMax(local);
+        const double h = (bound.centre - toVec(p[i][j].XYZ())).dot(n);
+        hLo = std::min(hLo, h);
+        hHi = std::max(hHi, h);
+        reach = std::max(reach, (bound.centre - toVec(p[i][j].XYZ())).norm());
+      }
+    a.patch.normalLo = lo - Vec3::Constant(turnSlack);
+    a.patch.normalHi = hi + Vec3::Constant(turnSlack);
+    a.patch.heightLo = hLo - reach * turnSlack - sag;
+    a.patch.heightHi = hHi + reach * turnSlack + sag;
+  }
   a.patch.maxSuu = 2 * maxSuu;
   a.patch.maxSuv = 2 * maxSuv;
   a.patch.maxSvv = 2 * maxSvv;
   a.patch.lipschitzU = 1.25 * (maxSu + 0.5 * (hu * maxSuu + hv * maxSuv));
   a.patch.lipschitzV = 1.25 * (maxSv + 0.5 * (hv * maxSvv + hu * maxSuv));
   const double at[SurfacePatch::kSeeds][2] = {{0.5, 0.5}, {0.25, 0.25}, {0.75, 0.25}, {0.25, 0.75}, {0.75, 0.75}};
-  for (int k = 0; k < SurfacePatch::kSeeds; ++k) {
+  for (int k = 0; full && k < SurfacePatch::kSeeds; ++k) {
     SurfaceJet& s = a.patch.seeds[k];
     s.u = r.u0 + r.du() * at[k][0];
     s.v = r.v0 + r.dv() * at[k][1];
@@ -148,18 +174,33 @@ std::vector<SurfacePatch> buildSurfacePatches(const SurfaceD2& surface, const Uv
   while (!todo.empty()) {
     const auto [r, depth] = todo.front();
     todo.pop_front();
-    Analysis a = analyse(surface, r, options.tolerance);
-    const bool room = patches.size() + todo.size() + 2 <= static_cast<std::size_t>(options.maxPatches);
     // A patch is cut while its normal turns too much, or while it is long for its
     // curvature (a strip along a cylinder-like surface: its focal distance, not its turn,
     // is then what limits a certain Newton search). Around a pole the normal turns
-    // whatever the size: the depth stops the cutting there.
-    const double k = std::max(a.patch.kTowards, a.patch.kAway);
-    const bool turns = a.maxTurn > options.maxTurn_rad;
-    const bool long_ = a.patch.spread * k > options.maxSpreadCurvature;
-    if (room && depth < options.maxDepth && (turns || long_)) {
+    // whatever the size: the depth stops the cutting there. A quick look decides most
+    // cuts; what it would keep is analysed in full, and may still be cut.
+    // Its size counts only along the directions the surface bends in: a strip along a
+    // straight line of the surface (a cylinder's) may stay long; its focal test holds.
+    auto curvedSpread = [&](const Analysis& b) {
+      const bool bendsU = b.turnU > options.straightTurn_rad, bendsV = b.turnV > options.straightTurn_rad;
+      if (bendsU && bendsV) return b.patch.spread;
+      const double halfU = 0.4 * b.patch.lipschitzU * b.patch.rect.du(), halfV = 0.4 * b.patch.lipschitzV * b.patch.rect.dv();
+      return bendsU ? halfU : bendsV ? halfV : 0.0;
+    };
+    auto wantsCut = [&](const Analysis& b) {
+      return b.maxTurn > options.maxTurn_rad ||
+             curvedSpread(b) * std::max(b.patch.kTowards, b.patch.kAway) > options.maxSpreadCurvature;
+    };
+    const bool room = patches.size() + todo.size() + 2 <= static_cast<std::size_t>(options.maxPatches);
+    const bool mayCut = room && depth < options.maxDepth;
+    Analysis a = analyse(surface, r, options.tolerance, kQuickGrid);
+    if (!(mayCut && wantsCut(a))) a = analyse(surface, r, options.tolerance, kFullGrid);
+    if (mayCut && wantsCut(a)) {
       // Halve across the direction the normal turns most along, or else the longer one.
-      const bool acrossU = turns ? a.turnU >= a.turnV : a.patch.lipschitzU * r.du() >= a.patch.lipschitzV * r.dv();
+      const bool acrossU = a.maxTurn > options.maxTurn_rad ? a.turnU >= a.turnV
+                           : a.turnV <= options.straightTurn_rad ? true
+                           : a.turnU <= options.straightTurn_rad ? false
+                                                                 : a.patch.lipschitzU * r.du() >= a.patch.lipschitzV * r.dv();
       if (acrossU) {
         const double m = 0.5 * (r.u0 + r.u1);
         todo.push_back({{r.u0, m, r.v0, r.v1}, depth + 1});

@@ -42,17 +42,35 @@ struct SurfacePatch {
   static constexpr int kSeeds = 5;
   SurfaceJet seeds[kSeeds];
 
+  // Whether x is clear of the patch's focal points: at every point P of the patch, the
+  // height h = (x - P).N of x over the tangent plane stays below 1/k for the curvature k
+  // bending towards x's side. The squared distance's Hessian at P, in orthonormal
+  // coordinates of the tangent plane, is I - h II: positive definite all over the patch,
+  // which then holds one local minimum of the distance at most, that Newton goes to (or is
+  // pushed out of the patch towards). h is bounded by intervals: x - c in the patch's frame
+  // against the range of N's components there, plus the range of (c - P).N. Independent of
+  // any best distance; tight along straight directions (a long strip of a cylinder).
+  bool focalClear(const Vec3& x) const noexcept {
+    if (!bound.oriented()) return false;
+    const Vec3 a = bound.axes.transpose() * (x - searchedCentre);
+    double up = heightHi, down = heightLo;
+    for (int i = 0; i < 3; ++i) {
+      up += std::max(a[i] * normalLo[i], a[i] * normalHi[i]);
+      down += std::min(a[i] * normalLo[i], a[i] * normalHi[i]);
+    }
+    return (up <= 0 || up * kTowards < kFocalMargin) && (down >= 0 || -down * kAway < kFocalMargin);
+  }
+  Vec3 normalLo = Vec3::Zero(), normalHi = Vec3::Zero();  // N's components in the frame
+  double heightLo = 0, heightHi = 0;                       // the range of (c - P).N
+
   // Whether a Newton search on the patch that ended inside it, at a point of the surface
   // at distance d from x, found the patch's closest point. The ball of radius d about x
   // touches the surface there; a surface bending towards x less than that ball (d k < 1,
   // k the curvature towards x's side) stays outside it all over so nearly flat a patch.
   bool minimumIsGlobal(const Vec3& x, double d) const noexcept { return d * curvatureTowards(x) < kFocalMargin; }
   // Whether a Newton search on the patch that was pushed out of it proves the patch holds
-  // no foot closer than `best`. At a critical point P (x - P along N, at distance d) the
-  // distance's Hessian is I - d II: a strict local minimum while d k < 1. A minimum in the
-  // patch would have been found unless a saddle or maximum separated it from the start,
-  // and the distance grows by no more than the path between them: such a point lies at
-  // most best + spread from x. If that is short of the focal distance 1/k, there is none.
+  // no foot closer than `best`: the distance is unimodal over the patch while every
+  // point of it, at most best + spread from x, is short of the focal distance 1/k.
   bool clearOfFocus(const Vec3& x, double best) const noexcept {
     return (best + spread) * curvatureTowards(x) < kFocalMargin;
   }
@@ -76,7 +94,9 @@ using SurfaceD2 = std::function<void(double u, double v, gp_Pnt& p, gp_Vec& du, 
 
 struct PatchOptions {
   double maxTurn_rad = 0.3;   // the normal turns by at most about this on a patch
-  double maxSpreadCurvature = 0.2;  // and its radius is at most this over its curvature
+  // and its size, along the directions it bends in, is at most this over its curvature
+  double maxSpreadCurvature = 0.2;
+  double straightTurn_rad = 0.02;  // a direction the normal turns less along is straight
   int maxPatches = 16384;     // per face (about 1 KB each)
   int maxDepth = 12;          // halvings of one knot span
   double tolerance = 0;       // model units, added to every bound
