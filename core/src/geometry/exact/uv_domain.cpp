@@ -1,6 +1,9 @@
 #include "uv_domain.hpp"
 
+#include <BRepTools_WireExplorer.hxx>
 #include <BRep_Tool.hxx>
+#include <GCE2d_MakeSegment.hxx>
+#include <Geom2d_TrimmedCurve.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
 
@@ -15,12 +18,60 @@ constexpr int kBins = 64;
 }  // namespace
 
 UvDomain::UvDomain(const TopoDS_Face& face) {
-  for (TopExp_Explorer ex(face, TopAbs_EDGE); ex.More(); ex.Next()) {
-    double first, last;
-    const Handle(Geom2d_Curve) pcurve = BRep_Tool::CurveOnSurface(TopoDS::Edge(ex.Current()), face, first, last);
-    if (!pcurve.IsNull()) addCurve(pcurve, first, last);
-  }
+  for (TopExp_Explorer wires(face, TopAbs_WIRE); wires.More(); wires.Next()) addWire(TopoDS::Wire(wires.Current()), face);
   buildBins();
+}
+
+// A valid face's pcurves need only meet within the edges' tolerance: consecutive ones may
+// leave gaps in (u, v) (0.004 in v on a makeThickness offset face of the corpus). A ray
+// through a gap would cross one curve of the pair and not the other and flip the answer
+// over a whole band of v, so the loop is closed with straight bridges across each gap.
+void UvDomain::addWire(const TopoDS_Wire& wire, const TopoDS_Face& face) {
+  struct Pcurve {
+    Handle(Geom2d_Curve) curve;
+    double first, last;
+    bool forward;
+  };
+  auto pcurveOf = [&face](const TopoDS_Edge& edge) {
+    Pcurve p;
+    p.curve = BRep_Tool::CurveOnSurface(edge, face, p.first, p.last);
+    p.forward = edge.Orientation() != TopAbs_REVERSED;
+    return p;
+  };
+  int edges = 0;
+  for (TopExp_Explorer ex(wire, TopAbs_EDGE); ex.More(); ex.Next()) ++edges;
+  std::vector<Pcurve> loop;
+  for (BRepTools_WireExplorer ex(wire, face); ex.More(); ex.Next()) loop.push_back(pcurveOf(ex.Current()));
+  const bool ordered = static_cast<int>(loop.size()) == edges;
+  if (!ordered) {  // the explorer could not order the wire: take its edges as they come
+    loop.clear();
+    for (TopExp_Explorer ex(wire, TopAbs_EDGE); ex.More(); ex.Next()) loop.push_back(pcurveOf(TopoDS::Edge(ex.Current())));
+  }
+  std::vector<gp_Pnt2d> starts, ends;
+  for (const Pcurve& p : loop) {
+    if (p.curve.IsNull()) continue;
+    addCurve(p.curve, p.first, p.last);
+    starts.push_back(p.curve->Value(p.forward ? p.first : p.last));
+    ends.push_back(p.curve->Value(p.forward ? p.last : p.first));
+  }
+  if (!ordered || starts.size() != loop.size()) return;
+  // A gap as wide as the wire itself is no tolerance gap (a pcurve given a period away):
+  // bridging it would cut the domain in two.
+  double uLow = INFINITY, uHigh = -INFINITY, vLow = INFINITY, vHigh = -INFINITY;
+  for (const gp_Pnt2d& p : starts) {
+    uLow = std::min(uLow, p.X()), uHigh = std::max(uHigh, p.X());
+    vLow = std::min(vLow, p.Y()), vHigh = std::max(vHigh, p.Y());
+  }
+  const double widest = 0.05 * std::hypot(uHigh - uLow, vHigh - vLow);
+  for (std::size_t i = 0; i < ends.size(); ++i) {
+    const gp_Pnt2d& from = ends[i];
+    const gp_Pnt2d& to = starts[(i + 1) % starts.size()];
+    const double scale = 1 + std::max(std::abs(from.X()), std::abs(from.Y()));
+    const double gap = from.Distance(to);
+    if (gap <= 1e-12 * scale || gap > widest) continue;
+    const Handle(Geom2d_TrimmedCurve) bridge = GCE2d_MakeSegment(from, to).Value();
+    addCurve(bridge, bridge->FirstParameter(), bridge->LastParameter());
+  }
 }
 
 // Cuts the pcurve where dv/dt changes sign (found on samples, refined by bisection).

@@ -3,9 +3,11 @@
 // answers from a polygon and allocates on every call, so this is written by hand. It is
 // exact and allocation-free: each boundary pcurve is cut, once, into pieces along which v
 // is monotone; a query casts a ray towards +u and counts the pieces it crosses, solving
-// v(t) = v0 by bisection only for the pieces whose box it cannot decide from.
+// v(t) = v0 by bisection only for the pieces whose box it cannot decide from. Gaps
+// between consecutive pcurves (within tolerance, so valid) are bridged by segments.
 #include <Geom2d_Curve.hxx>
 #include <TopoDS_Face.hxx>
+#include <TopoDS_Wire.hxx>
 
 #include <vector>
 
@@ -29,6 +31,7 @@ class UvDomain {
     bool increasing;            // v(t0) < v(t1)  (kept for clarity of the box; the root needs no orientation)
   };
   bool crosses(const Piece& piece, double u, double v) const noexcept;
+  void addWire(const TopoDS_Wire& wire, const TopoDS_Face& face);
   void addCurve(const Handle(Geom2d_Curve)& curve, double first, double last);
   void addPiece(const Geom2d_Curve* curve, double t0, double t1);
   void buildBins();
