@@ -28,6 +28,7 @@
 
 #include "hapticgrasp/geometry/backends.hpp"
 #include "hapticgrasp/geometry/tessellation.hpp"
+#include "hapticgrasp/geometry/winding_number.hpp"
 
 // ---- Heap accounting ------------------------------------------------------------------
 // Every operator new of the process is counted while `g_counting` is set. Embree allocates
@@ -636,6 +637,111 @@ TEST(MeshPenetration, DISABLED_ReportsQueryTime) {
     std::printf("%-8s build %.1f ms, %zu KiB; random cold median %.3f us p99 %.3f us; path warm median %.3f us p99 %.3f us\n",
                 c.name, buildMs, model->memoryBytes() / 1024, cold.first, cold.second, warm.first, warm.second);
   }
+}
+
+// ---- The winding number (winding_number.hpp) ------------------------------------------
+// The hierarchical approximation against every triangle's exact solid angle, and both
+// against what the surfaces enclose in closed form.
+
+// A triangle soup of several closed meshes, each counted +1, or -1 when turned inside out.
+struct Soup {
+  std::vector<Vec3> vertices;
+  std::vector<Eigen::Vector3i> triangles;
+  void add(const Tessellation& mesh, bool insideOut = false) {
+    const int offset = static_cast<int>(vertices.size());
+    vertices.insert(vertices.end(), mesh.vertices.begin(), mesh.vertices.end());
+    for (Eigen::Vector3i t : mesh.triangles) {
+      if (insideOut) std::swap(t[1], t[2]);
+      triangles.push_back(t + Eigen::Vector3i::Constant(offset));
+    }
+  }
+};
+
+struct WindingTally {
+  double worstApproximation = 0;  // |at - exact|, the hierarchy's error
+  int signErrors = 0, count = 0;
+  Vec3 firstSignError = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+  void add(const WindingNumber& w, const Vec3& x, double truth) {
+    const double fast = w.at(x), exact = w.exact(x);
+    worstApproximation = std::max(worstApproximation, std::abs(fast - exact));
+    EXPECT_NEAR(exact, truth, 1e-6) << x.transpose();  // away from the surface it is an integer
+    if (w.encloses(x) != (truth > 0.5) && signErrors++ == 0) firstSignError = x;
+    ++count;
+  }
+};
+
+// The sphere at 0.1 mm: some 2500 triangles, a tree many levels deep. Points in a shell
+// around it, 1 um either side of each of 500 facets (the mesh, not the sphere, is the
+// surface there) and far away.
+TEST(WindingNumber, MatchesTheSolidAnglesOfASoundMesh) {
+  const PartModelPtr part = sphere();
+  const Tessellation mesh = tessellate(*part, 0.1 * kMm);
+  const WindingNumber w(mesh.vertices, mesh.triangles);
+  EXPECT_EQ(w.triangleCount(), mesh.triangles.size());
+  ASSERT_GT(w.clusterCount(), 200u);
+  WindingTally tally;
+  for (const Vec3& x : shellPoints(*part, sphereDepth, 5 * kMm, 2000, 10))
+    if (std::abs(sphereDepth(x)) > 0.2 * kMm) tally.add(w, x, sphereDepth(x) > 0 ? 1.0 : 0.0);
+  for (std::size_t t = 0; t < mesh.triangles.size(); t += mesh.triangles.size() / 500) {
+    const Vec3 a = mesh.vertices[mesh.triangles[t][0]], b = mesh.vertices[mesh.triangles[t][1]],
+               c = mesh.vertices[mesh.triangles[t][2]];
+    const Vec3 centroid = (a + b + c) / 3, normal = (b - a).cross(c - a).normalized();
+    tally.add(w, centroid - 1e-6 * normal, 1.0);
+    tally.add(w, centroid + 1e-6 * normal, 0.0);
+  }
+  for (const Vec3& far : {Vec3(1, 0, 0), Vec3(-3, 2, 0.5), Vec3(0, 0, -0.2)}) tally.add(w, far, 0.0);
+  EXPECT_EQ(tally.signErrors, 0) << "first at " << tally.firstSignError.transpose();
+  EXPECT_LT(tally.worstApproximation, 1e-2);
+  std::printf("sphere, %zu triangles, %zu clusters, %zu bytes: worst |fast - exact| %.2g over %d points\n",
+              w.triangleCount(), w.clusterCount(), w.memoryBytes(), tally.worstApproximation, tally.count);
+}
+
+// A soup that crosses itself: the sphere, the cylinder (their common part enclosed twice)
+// and the box turned inside out (a lobe counted -1). The winding number counts each.
+TEST(WindingNumber, CountsWhatASelfIntersectingSoupEncloses) {
+  const PartModelPtr ball = sphere(), can = cylinder(), brick = box();
+  Soup soup;
+  soup.add(tessellate(*ball, 0.1 * kMm));
+  soup.add(tessellate(*can, 0.1 * kMm));
+  soup.add(tessellate(*brick, 0.1 * kMm), true);
+  const WindingNumber w(soup.vertices, soup.triangles);
+  std::mt19937_64 random(12);
+  std::uniform_real_distribution<double> ux(-0.06, 0.11), uy(-0.06, 0.07), uz(-0.06, 0.06);
+  WindingTally tally;
+  int counted[4] = {};  // truth -1, 0, 1, 2
+  while (tally.count < 3000) {
+    const Vec3 x(ux(random), uy(random), uz(random));
+    const double depths[] = {sphereDepth(x), cylinderDepth(x), boxDepth(x)};
+    if (std::any_of(std::begin(depths), std::end(depths), [](double d) { return std::abs(d) < 0.2 * kMm; })) continue;
+    const int truth = (depths[0] > 0) + (depths[1] > 0) - (depths[2] > 0);
+    ++counted[truth + 1];
+    tally.add(w, x, truth);
+  }
+  EXPECT_EQ(tally.signErrors, 0) << "first at " << tally.firstSignError.transpose();
+  EXPECT_LT(tally.worstApproximation, 1e-2);
+  for (const int n : counted) EXPECT_GT(n, 50);  // every count occurs
+  std::printf("soup, %zu triangles: worst |fast - exact| %.2g; points counted -1: %d, 0: %d, 1: %d, 2: %d\n",
+              w.triangleCount(), tally.worstApproximation, counted[0], counted[1], counted[2], counted[3]);
+}
+
+// Van Oosterom & Strackee's closed form on cases known by symmetry.
+TEST(WindingNumber, SolidAngleOfATriangle) {
+  // An octant's face triangle seen from the origin: 1/8 of the sphere, positive behind it.
+  EXPECT_NEAR(solidAngle(Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)), std::numbers::pi / 2, 1e-14);
+  EXPECT_NEAR(solidAngle(Vec3(1, 0, 0), Vec3(0, 0, 1), Vec3(0, 1, 0)), -std::numbers::pi / 2, 1e-14);
+  EXPECT_EQ(solidAngle(Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(2, 3, 0)), 0);  // in its plane
+  EXPECT_EQ(solidAngle(Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)), 0);  // a corner at the origin: no NaN
+  // A cube's 12 triangles from its centre: the whole sphere.
+  const WindingNumber cube(tessellate(*box(), 0.1 * kMm).vertices, tessellate(*box(), 0.1 * kMm).triangles);
+  EXPECT_NEAR(cube.exact(Vec3(50, 30, 15) * kMm), 1.0, 1e-14);
+  EXPECT_NEAR(cube.at(Vec3(50, 30, 15) * kMm), 1.0, 1e-14);
+}
+
+TEST(WindingNumber, NoTrianglesEncloseNothing) {
+  const WindingNumber empty({}, {});
+  EXPECT_EQ(empty.at(Vec3::Zero()), 0);
+  EXPECT_FALSE(empty.encloses(Vec3::Zero()));
+  EXPECT_THROW(WindingNumber({Vec3::Zero()}, {Eigen::Vector3i(0, 0, 1)}), GeometryError);
 }
 
 }  // namespace
