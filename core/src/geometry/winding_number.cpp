@@ -50,10 +50,9 @@ WindingNumber::WindingNumber(const std::vector<Vec3>& vertices, const std::vecto
 int WindingNumber::build(std::vector<int>& order, const std::vector<Vec3>& centroids, int begin, int end, int depth) {
   if (depth >= kMaxDepth) throw GeometryError("winding number: the tree is too deep");  // unreachable: median split
   const int index = static_cast<int>(clusters_.size());
-  clusters_.push_back({});
+  clusters_.emplace_back();
   clusters_[index].begin = begin;
   clusters_[index].end = end;
-  clusters_[index].right = 0;
   if (end - begin <= kLeafSize) return index;
 
   Aabb box;
@@ -87,10 +86,6 @@ void WindingNumber::computeMoments(Cluster& cluster) const {
   }
   // Slivers only: no area to weigh by, and no moment either; any centre will do.
   cluster.centre = area > 0 ? Vec3(weighted / area) : Vec3(mean / (cluster.end - cluster.begin));
-  cluster.radius = 0;
-  cluster.dipole.setZero();
-  cluster.first.setZero();
-  for (Mat3& s : cluster.second) s.setZero();
   for (int t = cluster.begin; t < cluster.end; ++t) {
     const Vec3* p = triangles_[t].corner;
     const Vec3 areaVector = 0.5 * (p[1] - p[0]).cross(p[2] - p[0]);

@@ -61,13 +61,13 @@ class WindingNumber {
   // dipole = integral of n (the area-weighted normal sum), first_ij = integral of n_i d_j,
   // second[i]_jk = integral of n_i d_j d_k.
   struct Cluster {
-    Vec3 centre;     // area-weighted centroid
-    double radius;   // farthest triangle corner from the centre
-    Vec3 dipole;
-    Mat3 first;
-    std::array<Mat3, 3> second;
-    int begin, end;  // its triangles, [begin, end) of triangles_
-    int right;       // the second child (the first is the next cluster); 0 for a leaf
+    Vec3 centre = Vec3::Zero();  // area-weighted centroid
+    double radius = 0;           // farthest triangle corner from the centre
+    Vec3 dipole = Vec3::Zero();
+    Mat3 first = Mat3::Zero();
+    std::array<Mat3, 3> second{Mat3::Zero(), Mat3::Zero(), Mat3::Zero()};
+    int begin = 0, end = 0;  // its triangles, [begin, end) of triangles_
+    int right = 0;           // the second child (the first is the next cluster); 0 for a leaf
   };
   // Leaves hold at most this many triangles: below it, a cluster's expansion costs about
   // what its triangles' exact solid angles do.
