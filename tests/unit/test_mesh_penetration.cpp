@@ -29,6 +29,7 @@
 #include "hapticgrasp/geometry/backends.hpp"
 #include "hapticgrasp/geometry/tessellation.hpp"
 #include "hapticgrasp/geometry/winding_number.hpp"
+#include "test_shapes.hpp"
 
 // ---- Heap accounting ------------------------------------------------------------------
 // Every operator new of the process is counted while `g_counting` is set. Embree allocates
@@ -123,6 +124,9 @@ namespace hg::geometry {
 namespace {
 
 constexpr double kMm = 1e-3;
+// On a sound part both signs must answer the same: every test of a sound part runs both.
+constexpr MeshSign kSigns[] = {MeshSign::PseudoNormal, MeshSign::WindingNumber};
+const char* toString(MeshSign sign) { return sign == MeshSign::PseudoNormal ? "pseudo-normal" : "winding-number"; }
 
 PartModelPtr box() { return PartModel::fromShape(BRepPrimAPI_MakeBox(100, 60, 30).Shape(), LengthUnit::Millimetre, "box"); }
 PartModelPtr cylinder() {
@@ -230,11 +234,19 @@ Tally compare(const PenetrationModel& model, const std::function<double(const Ve
 TEST(MeshPenetration, NamesItselfAndItsSetting) {
   const PenetrationModelPtr model = makeMeshPenetration(box(), 0.01 * kMm);
   EXPECT_EQ(model->name(), "mesh");
-  EXPECT_EQ(model->setting(), "deflection 0.01 mm");
+  EXPECT_EQ(model->setting(), "deflection 0.01 mm, pseudo-normal sign");
   EXPECT_TRUE(model->realTimeSafe());
   // 12 triangles, 8 vertices: a few hundred bytes of arrays plus the BVH estimate.
   EXPECT_GT(model->memoryBytes(), 12u * 64u);
   EXPECT_LT(model->memoryBytes(), 100000u);
+  // The winding number adds its tree: two clusters of 6 triangles and the root.
+  const PenetrationModelPtr winding = makeMeshPenetration(box(), 0.01 * kMm, MeshSign::WindingNumber);
+  EXPECT_EQ(winding->name(), "mesh");
+  EXPECT_EQ(winding->setting(), "deflection 0.01 mm, winding-number sign");
+  EXPECT_TRUE(winding->realTimeSafe());
+  EXPECT_GT(winding->memoryBytes(), model->memoryBytes() + 12 * 72 + 3 * 300);
+  // A sound part made with Auto or by name keeps the cheaper pseudo-normals.
+  EXPECT_EQ(makePenetration(box(), Backend::Mesh)->setting(), "deflection 0.01 mm, pseudo-normal sign");
 }
 
 // Its own arrays come to about 200 bytes a triangle; the BVH, measured through Embree's
@@ -257,14 +269,16 @@ TEST(MeshPenetration, RejectsBadInput) {
 
 TEST(MeshPenetration, BoxMatchesSignedDistanceExactly) {
   const PartModelPtr part = box();
-  const PenetrationModelPtr model = makeMeshPenetration(part, 0.01 * kMm);
   const auto points = shellPoints(*part, boxDepth, 5 * kMm, 5000, 1);
-  const Tally tally = compare(*model, boxDepth, points, 0.0);
-  EXPECT_LE(tally.worstDepthError, 1e-9) << tally.worstPoint.transpose();
-  EXPECT_LE(tally.worstFootOffSurface, 1e-12);
-  EXPECT_EQ(tally.signErrors, 0) << "first at " << tally.firstSignError.transpose();
-  EXPECT_GT(tally.inside, 1000);
-  EXPECT_GT(tally.outside, 1000);
+  for (const MeshSign sign : kSigns) {
+    const PenetrationModelPtr model = makeMeshPenetration(part, 0.01 * kMm, sign);
+    const Tally tally = compare(*model, boxDepth, points, 0.0);
+    EXPECT_LE(tally.worstDepthError, 1e-9) << tally.worstPoint.transpose();
+    EXPECT_LE(tally.worstFootOffSurface, 1e-12);
+    EXPECT_EQ(tally.signErrors, 0) << toString(sign) << ", first at " << tally.firstSignError.transpose();
+    EXPECT_GT(tally.inside, 1000);
+    EXPECT_GT(tally.outside, 1000);
+  }
 }
 
 // featureIndex names the B-rep face: the foot lies in the plane of the face it names.
@@ -286,54 +300,57 @@ TEST(MeshPenetration, BoxFeetLieOnTheNamedFace) {
 // The 8 corners and 12 edges: off them outside, the foot is the corner or edge itself and
 // the normal the (angle-weighted) bisector; just inside, the sign still holds.
 TEST(MeshPenetration, BoxCornersAndEdges) {
-  const PenetrationModelPtr model = makeMeshPenetration(box(), 0.01 * kMm);
-  const Vec3 size = Vec3(100, 60, 30) * kMm;
-  QueryState state;
-  for (int corner = 0; corner < 8; ++corner) {
-    Vec3 c, out;
-    for (int i = 0; i < 3; ++i) {
-      const bool high = (corner >> i) & 1;
-      c[i] = high ? size[i] : 0;
-      out[i] = high ? 1 : -1;
-    }
-    const Penetration on = model->query(c, state);
-    EXPECT_FALSE(on.inside);
-    EXPECT_NEAR(on.depth, 0, 1e-15);
-    EXPECT_LT((on.foot - c).norm(), 1e-15);
+  for (const MeshSign sign : kSigns) {
+    SCOPED_TRACE(toString(sign));
+    const PenetrationModelPtr model = makeMeshPenetration(box(), 0.01 * kMm, sign);
+    const Vec3 size = Vec3(100, 60, 30) * kMm;
+    QueryState state;
+    for (int corner = 0; corner < 8; ++corner) {
+      Vec3 c, out;
+      for (int i = 0; i < 3; ++i) {
+        const bool high = (corner >> i) & 1;
+        c[i] = high ? size[i] : 0;
+        out[i] = high ? 1 : -1;
+      }
+      const Penetration on = model->query(c, state);
+      EXPECT_FALSE(on.inside);
+      EXPECT_NEAR(on.depth, 0, 1e-15);
+      EXPECT_LT((on.foot - c).norm(), 1e-15);
 
-    const Penetration off = model->query(c + out * kMm, state);
-    EXPECT_FALSE(off.inside) << "corner " << corner;
-    EXPECT_NEAR(off.depth, -std::sqrt(3.0) * kMm, 1e-12);
-    EXPECT_LT((off.foot - c).norm(), 1e-12);
-    EXPECT_LT((off.normal - out / std::sqrt(3.0)).norm(), 1e-12) << "corner " << corner;
+      const Penetration off = model->query(c + out * kMm, state);
+      EXPECT_FALSE(off.inside) << "corner " << corner;
+      EXPECT_NEAR(off.depth, -std::sqrt(3.0) * kMm, 1e-12);
+      EXPECT_LT((off.foot - c).norm(), 1e-12);
+      EXPECT_LT((off.normal - out / std::sqrt(3.0)).norm(), 1e-12) << "corner " << corner;
 
-    const Penetration justOutside = model->query(c + out * 1e-9, state);
-    EXPECT_FALSE(justOutside.inside) << "corner " << corner;
-    const Penetration justInside = model->query(c - out * 1e-9, state);
-    EXPECT_TRUE(justInside.inside) << "corner " << corner;
-    EXPECT_NEAR(justInside.depth, 1e-9, 1e-15);
-  }
-  for (int axis = 0; axis < 3; ++axis) {
-    const int i = (axis + 1) % 3, j = (axis + 2) % 3;
-    for (int side = 0; side < 4; ++side) {
-      Vec3 mid = Vec3::Zero(), out = Vec3::Zero();
-      mid[axis] = 0.3 * size[axis];
-      mid[i] = (side & 1) ? size[i] : 0;
-      mid[j] = (side & 2) ? size[j] : 0;
-      out[i] = (side & 1) ? 1 : -1;
-      out[j] = (side & 2) ? 1 : -1;
-      EXPECT_NEAR(model->query(mid, state).depth, 0, 1e-15);
-
-      const Penetration off = model->query(mid + out * kMm, state);
-      EXPECT_FALSE(off.inside);
-      EXPECT_NEAR(off.depth, -std::sqrt(2.0) * kMm, 1e-12);
-      EXPECT_LT((off.foot - mid).norm(), 1e-12);
-      EXPECT_LT((off.normal - out / std::sqrt(2.0)).norm(), 1e-12) << "edge " << axis << "/" << side << " foot " << off.foot.transpose() << " normal " << off.normal.transpose();
-
-      EXPECT_FALSE(model->query(mid + out * 1e-9, state).inside);
-      const Penetration justInside = model->query(mid - out * 1e-9, state);
-      EXPECT_TRUE(justInside.inside);
+      const Penetration justOutside = model->query(c + out * 1e-9, state);
+      EXPECT_FALSE(justOutside.inside) << "corner " << corner;
+      const Penetration justInside = model->query(c - out * 1e-9, state);
+      EXPECT_TRUE(justInside.inside) << "corner " << corner;
       EXPECT_NEAR(justInside.depth, 1e-9, 1e-15);
+    }
+    for (int axis = 0; axis < 3; ++axis) {
+      const int i = (axis + 1) % 3, j = (axis + 2) % 3;
+      for (int side = 0; side < 4; ++side) {
+        Vec3 mid = Vec3::Zero(), out = Vec3::Zero();
+        mid[axis] = 0.3 * size[axis];
+        mid[i] = (side & 1) ? size[i] : 0;
+        mid[j] = (side & 2) ? size[j] : 0;
+        out[i] = (side & 1) ? 1 : -1;
+        out[j] = (side & 2) ? 1 : -1;
+        EXPECT_NEAR(model->query(mid, state).depth, 0, 1e-15);
+
+        const Penetration off = model->query(mid + out * kMm, state);
+        EXPECT_FALSE(off.inside);
+        EXPECT_NEAR(off.depth, -std::sqrt(2.0) * kMm, 1e-12);
+        EXPECT_LT((off.foot - mid).norm(), 1e-12);
+        EXPECT_LT((off.normal - out / std::sqrt(2.0)).norm(), 1e-12) << "edge " << axis << "/" << side << " foot " << off.foot.transpose() << " normal " << off.normal.transpose();
+
+        EXPECT_FALSE(model->query(mid + out * 1e-9, state).inside);
+        const Penetration justInside = model->query(mid - out * 1e-9, state);
+        EXPECT_TRUE(justInside.inside);
+        EXPECT_NEAR(justInside.depth, 1e-9, 1e-15);
+      }
     }
   }
 }
@@ -352,16 +369,17 @@ TEST(MeshPenetration, BoxFaceInteriorNormalAndFoot) {
 // Flat faces again, so exact, but with concave edges and vertices (the L) and a sharp
 // convex edge (the wedge): the pseudo-normals must sign both right everywhere.
 TEST(MeshPenetration, PrismsMatchSignedDistanceExactly) {
-  for (const Prism* prism : {&kL, &kWedge}) {
-    const PartModelPtr part = prism->part();
-    const PenetrationModelPtr model = makeMeshPenetration(part, 0.01 * kMm);
-    auto depth = [prism](const Vec3& p) { return prism->depth(p); };
-    const Tally tally = compare(*model, depth, shellPoints(*part, depth, 5 * kMm, 5000, 9), 0.0);
-    EXPECT_LE(tally.worstDepthError, 1e-9) << tally.worstPoint.transpose();
-    EXPECT_EQ(tally.signErrors, 0) << "first at " << tally.firstSignError.transpose();
-    EXPECT_GT(tally.inside, 1000);
-    EXPECT_GT(tally.outside, 1000);
-  }
+  for (const Prism* prism : {&kL, &kWedge})
+    for (const MeshSign sign : kSigns) {
+      const PartModelPtr part = prism->part();
+      const PenetrationModelPtr model = makeMeshPenetration(part, 0.01 * kMm, sign);
+      auto depth = [prism](const Vec3& p) { return prism->depth(p); };
+      const Tally tally = compare(*model, depth, shellPoints(*part, depth, 5 * kMm, 5000, 9), 0.0);
+      EXPECT_LE(tally.worstDepthError, 1e-9) << tally.worstPoint.transpose();
+      EXPECT_EQ(tally.signErrors, 0) << toString(sign) << ", first at " << tally.firstSignError.transpose();
+      EXPECT_GT(tally.inside, 1000);
+      EXPECT_GT(tally.outside, 1000);
+    }
 }
 
 // A prism whose outline loops over itself at the corner near the origin: its top and bottom
@@ -396,39 +414,143 @@ TEST(MeshPenetration, ASelfIntersectingOutlineIsFilledNotHoled) {
   }
 }
 
+// The number of times a closed outline (mm, in order) winds around q, seen from +z.
+int planarWinding(const std::vector<Eigen::Vector2d>& outline, const Eigen::Vector2d& q) {
+  int winding = 0;
+  for (std::size_t i = 0, j = outline.size() - 1; i < outline.size(); j = i++) {
+    const Eigen::Vector2d a = outline[j] - q, b = outline[i] - q;
+    const double side = a.x() * b.y() - a.y() * b.x();
+    if (a.y() <= 0 && b.y() > 0 && side > 0) ++winding;
+    if (a.y() > 0 && b.y() <= 0 && side < 0) --winding;
+  }
+  return winding;
+}
+
+// A prism whose faces pass through each other (its top turned 150 degrees against its
+// bottom): some points lie on the outer side of the face nearest them, yet inside the
+// part. Its faces are flat, so its mesh is the part, and that mesh's winding number summed
+// over every triangle is the truth. The pseudo-normals miss some (or the part would test
+// nothing); the winding number, which Auto chooses here, none.
+TEST(MeshPenetration, WhereFacesCrossTheWindingNumberSigns) {
+  const PartModelPtr part = PartModel::fromShape(test::twistedPrism(5 * std::numbers::pi / 6), LengthUnit::Millimetre);
+  ASSERT_EQ(part->backendChoice().backend, Backend::Mesh) << part->backendChoice().reason;
+  ASSERT_TRUE(part->backendChoice().surfaceMayCross);
+  const PenetrationModelPtr chosen = makePenetration(part);
+  EXPECT_EQ(chosen->setting(), "deflection 0.01 mm, winding-number sign");
+  EXPECT_EQ(makePenetration(part, Backend::Mesh)->setting(), chosen->setting());  // asked for by name too
+  const PenetrationModelPtr pseudo = makeMeshPenetration(part, 0.01 * kMm, MeshSign::PseudoNormal);
+  const Tessellation mesh = tessellate(*part, 0.01 * kMm);
+  const WindingNumber truth(mesh.vertices, mesh.triangles);
+
+  std::mt19937_64 random(13);
+  const Aabb bounds = part->bounds().inflated(2 * kMm);
+  std::uniform_real_distribution<double> ux(bounds.min.x(), bounds.max.x()), uy(bounds.min.y(), bounds.max.y()),
+      uz(bounds.min.z(), bounds.max.z());
+  int chosenErrors = 0, pseudoErrors = 0, inside = 0, count = 0;
+  QueryState a, b;
+  while (count < 5000) {
+    const Vec3 x(ux(random), uy(random), uz(random));
+    const Penetration p = chosen->query(x, a), q = pseudo->query(x, b);
+    EXPECT_EQ(p.distance(), q.distance());  // one closest point, two signs
+    if (p.distance() < 1e-6) continue;      // too near the surface for a sign
+    const bool enclosed = truth.exact(x) > 0.5;
+    chosenErrors += p.inside != enclosed;
+    pseudoErrors += q.inside != enclosed;
+    inside += enclosed;
+    ++count;
+    // Where the nearest face is turned against the sign, the normal handed out is not its
+    // normal: it still points from the part's side of the foot out, as -vector does inside.
+    EXPECT_GT((p.inside ? -p.vector : p.vector).dot(p.normal), 0) << x.transpose();
+  }
+  EXPECT_EQ(chosenErrors, 0);
+  EXPECT_GT(pseudoErrors, 10);
+  EXPECT_GT(inside, 100);
+  std::printf("twisted prism: sign errors of %d points: winding number %d, pseudo-normals %d\n", count, chosenErrors,
+              pseudoErrors);
+}
+
+// A pentagram extruded: its outline winds twice around the middle, so the pentagonal prism
+// there is enclosed twice (the five tips once). Ray parity calls the middle outside; the
+// part encloses it, and the mesh back end that Auto makes for the part says so.
+const Prism kStar = [] {
+  Prism star{{}, 10};
+  for (int k = 0; k < 5; ++k) {
+    const double angle = std::numbers::pi / 2 + k * 4 * std::numbers::pi / 5;
+    star.profile.emplace_back(20 * std::cos(angle), 20 * std::sin(angle));
+  }
+  return star;
+}();
+
+TEST(MeshPenetration, APointEnclosedTwiceIsInside) {
+  const PartModelPtr part = kStar.part();
+  ASSERT_EQ(part->backendChoice().backend, Backend::Mesh) << part->backendChoice().reason;
+  ASSERT_TRUE(part->backendChoice().surfaceMayCross);
+  const PenetrationModelPtr model = makePenetration(part);
+  ASSERT_EQ(model->setting(), "deflection 0.01 mm, winding-number sign");
+  const Vec3 middle = Vec3(0, 0, 5) * kMm;
+  ASSERT_EQ(planarWinding(kStar.profile, Eigen::Vector2d::Zero()), 2);
+  QueryState state;
+  const Penetration p = model->query(middle, state);
+  EXPECT_TRUE(p.inside);
+  EXPECT_GT(p.depth, 1 * kMm);
+  EXPECT_FALSE(makeReferencePenetration(part)->query(middle, state).inside);  // ray parity: an even count
+
+  // Everywhere around, inside is where the outline winds at all, between the caps.
+  std::mt19937_64 random(14);
+  std::uniform_real_distribution<double> uxy(-22, 22), uz(-2, 12);
+  int errors = 0, twice = 0, count = 0;
+  while (count < 4000) {
+    const Vec3 mm(uxy(random), uxy(random), uz(random));
+    const Penetration q = model->query(mm * kMm, state);
+    if (q.distance() < 1e-6) continue;
+    const int winding = mm.z() > 0 && mm.z() < 10 ? planarWinding(kStar.profile, mm.head<2>()) : 0;
+    errors += q.inside != (winding > 0);
+    twice += winding == 2;
+    ++count;
+  }
+  EXPECT_EQ(errors, 0);
+  EXPECT_GT(twice, 200);
+}
+
 // Around the wedge's knife edge, outside, in every direction of its normal cone (from the
 // bottom face's -y to the slanted face's normal at 70 degrees): the foot is the edge and the
 // normal the bisector at -10 degrees, even where x - foot points against one face's normal.
 TEST(MeshPenetration, KnifeEdgeOfTheWedge) {
-  const PenetrationModelPtr model = makeMeshPenetration(kWedge.part(), 0.01 * kMm);
-  const Vec3 edge = Vec3(100, 0, 15) * kMm;
-  const double bisector = -10 * std::numbers::pi / 180;
-  QueryState state;
-  for (int degrees = -85; degrees <= 65; degrees += 10) {
-    const double angle = degrees * std::numbers::pi / 180;
-    const Penetration p = model->query(edge + Vec3(std::cos(angle), std::sin(angle), 0) * kMm, state);
-    EXPECT_FALSE(p.inside) << degrees;
-    EXPECT_NEAR(p.depth, -kMm, 1e-12) << degrees;
-    EXPECT_LT((p.foot - edge).norm(), 1e-12) << degrees;
-    EXPECT_LT((p.normal - Vec3(std::cos(bisector), std::sin(bisector), 0)).norm(), 1e-12) << degrees;
+  for (const MeshSign sign : kSigns) {
+    SCOPED_TRACE(toString(sign));
+    const PenetrationModelPtr model = makeMeshPenetration(kWedge.part(), 0.01 * kMm, sign);
+    const Vec3 edge = Vec3(100, 0, 15) * kMm;
+    const double bisector = -10 * std::numbers::pi / 180;
+    QueryState state;
+    for (int degrees = -85; degrees <= 65; degrees += 10) {
+      const double angle = degrees * std::numbers::pi / 180;
+      const Penetration p = model->query(edge + Vec3(std::cos(angle), std::sin(angle), 0) * kMm, state);
+      EXPECT_FALSE(p.inside) << degrees;
+      EXPECT_NEAR(p.depth, -kMm, 1e-12) << degrees;
+      EXPECT_LT((p.foot - edge).norm(), 1e-12) << degrees;
+      EXPECT_LT((p.normal - Vec3(std::cos(bisector), std::sin(bisector), 0)).norm(), 1e-12) << degrees;
+    }
   }
 }
 
 TEST(MeshPenetration, ConcaveEdgeOfTheL) {
-  const PenetrationModelPtr model = makeMeshPenetration(kL.part(), 0.01 * kMm);
-  QueryState state;
-  // Under the concave edge (x = y = 30 mm), inside: its foot is the edge, its normal the
-  // bisector of the two faces' outward normals, +x and +y.
-  const Penetration under = model->query(Vec3(29, 29, 20) * kMm, state);
-  EXPECT_TRUE(under.inside);
-  EXPECT_NEAR(under.depth, std::sqrt(2.0) * kMm, 1e-12);
-  EXPECT_LT((under.foot - Vec3(30, 30, 20) * kMm).norm(), 1e-12);
-  EXPECT_LT((under.normal - Vec3(1, 1, 0).normalized()).norm(), 1e-12);
-  // In the notch, just off the edge and just off the concave corner vertex on the top face.
-  EXPECT_FALSE(model->query(Vec3(30, 30, 20) * kMm + Vec3(1e-9, 1e-9, 0), state).inside);
-  EXPECT_TRUE(model->query(Vec3(30, 30, 20) * kMm - Vec3(1e-9, 1e-9, 0), state).inside);
-  EXPECT_FALSE(model->query(Vec3(30, 30, 40) * kMm + Vec3(1e-9, 1e-9, 1e-9), state).inside);
-  EXPECT_TRUE(model->query(Vec3(30, 30, 40) * kMm + Vec3(-1e-9, -1e-9, -1e-9), state).inside);
+  for (const MeshSign sign : kSigns) {
+    SCOPED_TRACE(toString(sign));
+    const PenetrationModelPtr model = makeMeshPenetration(kL.part(), 0.01 * kMm, sign);
+    QueryState state;
+    // Under the concave edge (x = y = 30 mm), inside: its foot is the edge, its normal the
+    // bisector of the two faces' outward normals, +x and +y.
+    const Penetration under = model->query(Vec3(29, 29, 20) * kMm, state);
+    EXPECT_TRUE(under.inside);
+    EXPECT_NEAR(under.depth, std::sqrt(2.0) * kMm, 1e-12);
+    EXPECT_LT((under.foot - Vec3(30, 30, 20) * kMm).norm(), 1e-12);
+    EXPECT_LT((under.normal - Vec3(1, 1, 0).normalized()).norm(), 1e-12);
+    // In the notch, just off the edge and just off the concave corner vertex on the top face.
+    EXPECT_FALSE(model->query(Vec3(30, 30, 20) * kMm + Vec3(1e-9, 1e-9, 0), state).inside);
+    EXPECT_TRUE(model->query(Vec3(30, 30, 20) * kMm - Vec3(1e-9, 1e-9, 0), state).inside);
+    EXPECT_FALSE(model->query(Vec3(30, 30, 40) * kMm + Vec3(1e-9, 1e-9, 1e-9), state).inside);
+    EXPECT_TRUE(model->query(Vec3(30, 30, 40) * kMm + Vec3(-1e-9, -1e-9, -1e-9), state).inside);
+  }
 }
 
 TEST(MeshPenetration, CylinderWithinTwiceTheDeflection) {
@@ -538,39 +660,42 @@ TEST(MeshPenetration, TrackFallsBackToQuery) {
 }
 
 TEST(MeshPenetration, QueryDoesNotAllocate) {
-  const PartModelPtr part = sphere();
-  const PenetrationModelPtr model = makeMeshPenetration(part, 0.01 * kMm);
-  const auto points = shellPoints(*part, sphereDepth, 5 * kMm, 1000, 6);
-  std::vector<Penetration> answers(points.size());
-  QueryState state;
-  model->query(points[0], state);  // first call outside the window: lazy library set-up
+  for (const MeshSign sign : kSigns) {
+    SCOPED_TRACE(toString(sign));
+    const PartModelPtr part = sphere();
+    const PenetrationModelPtr model = makeMeshPenetration(part, 0.01 * kMm, sign);
+    const auto points = shellPoints(*part, sphereDepth, 5 * kMm, 1000, 6);
+    std::vector<Penetration> answers(points.size());
+    QueryState state;
+    model->query(points[0], state);  // first call outside the window: lazy library set-up
 
-  // The counter must see an allocation when there is one, or the check below proves nothing.
-  g_allocations = 0;
-  g_counting = true;
-  void* volatile probe = ::operator new(16);
-  ::operator delete(probe);
-#if HG_TEST_COUNTS_MALLOC
-  probe = std::malloc(16);
-  std::free(probe);
-  const long expected = 2;
-#else
-  const long expected = 1;
-#endif
-  g_counting = false;
-  ASSERT_GE(g_allocations.load(), expected);
+    // The counter must see an allocation when there is one, or the check below proves nothing.
+    g_allocations = 0;
+    g_counting = true;
+    void* volatile probe = ::operator new(16);
+    ::operator delete(probe);
+  #if HG_TEST_COUNTS_MALLOC
+    probe = std::malloc(16);
+    std::free(probe);
+    const long expected = 2;
+  #else
+    const long expected = 1;
+  #endif
+    g_counting = false;
+    ASSERT_GE(g_allocations.load(), expected);
 
-  g_allocations = 0;
-  g_counting = true;
-  for (std::size_t i = 0; i < points.size(); ++i) answers[i] = model->query(points[i], state);
-  g_counting = false;
-  EXPECT_EQ(g_allocations.load(), 0);
-  EXPECT_GT(std::count_if(answers.begin(), answers.end(), [](const Penetration& p) { return p.inside; }), 100);
-#if HG_TEST_COUNTS_MALLOC
-  std::printf("counted operator new and malloc\n");
-#else
-  std::printf("counted operator new only (sanitizer build)\n");
-#endif
+    g_allocations = 0;
+    g_counting = true;
+    for (std::size_t i = 0; i < points.size(); ++i) answers[i] = model->query(points[i], state);
+    g_counting = false;
+    EXPECT_EQ(g_allocations.load(), 0);
+    EXPECT_GT(std::count_if(answers.begin(), answers.end(), [](const Penetration& p) { return p.inside; }), 100);
+  #if HG_TEST_COUNTS_MALLOC
+    std::printf("counted operator new and malloc\n");
+  #else
+    std::printf("counted operator new only (sanitizer build)\n");
+  #endif
+  }
 }
 
 // The model is shared read-only by every servo thread.
@@ -606,36 +731,40 @@ TEST(MeshPenetration, DISABLED_ReportsQueryTime) {
   };
   for (const Case& c : {Case{"box", box(), boxDepth}, Case{"cylinder", cylinder(), cylinderDepth},
                         Case{"sphere", sphere(), sphereDepth}}) {
-    const auto built = std::chrono::steady_clock::now();
-    const PenetrationModelPtr model = makeMeshPenetration(c.part, 0.01 * kMm);
-    const double buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - built).count();
-    const auto points = shellPoints(*c.part, c.depth, 5 * kMm, 20000, 8);
-    auto time = [&](const std::vector<Vec3>& xs, bool warm) {
-      std::vector<double> us(xs.size());
-      QueryState state;
-      for (std::size_t i = 0; i < xs.size(); ++i) {
-        if (!warm) state.reset();
-        const auto t0 = std::chrono::steady_clock::now();
-        const Penetration p = model->query(xs[i], state);
-        us[i] = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
-        if (p.feature == Feature::None) std::abort();
+    for (const MeshSign sign : kSigns) {
+      const auto built = std::chrono::steady_clock::now();
+      const PenetrationModelPtr model = makeMeshPenetration(c.part, 0.01 * kMm, sign);
+      const double buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - built).count();
+      const auto points = shellPoints(*c.part, c.depth, 5 * kMm, 20000, 8);
+      auto time = [&](const std::vector<Vec3>& xs, bool warm) {
+        std::vector<double> us(xs.size());
+        QueryState state;
+        for (std::size_t i = 0; i < xs.size(); ++i) {
+          if (!warm) state.reset();
+          const auto t0 = std::chrono::steady_clock::now();
+          const Penetration p = model->query(xs[i], state);
+          us[i] = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
+          if (p.feature == Feature::None) std::abort();
+        }
+        std::sort(us.begin(), us.end());
+        return std::pair{us[us.size() / 2], us[us.size() * 99 / 100]};
+      };
+      // A coherent path: 1 kHz servo ticks of a fingertip moving at 0.1 m/s through the shell.
+      std::vector<Vec3> path;
+      const Vec3 centre = c.part->bounds().centre();
+      const Vec3 reach = 0.5 * c.part->bounds().size() + Vec3::Constant(2 * kMm);
+      for (int i = 0; i < 20000; ++i) {
+        const double t = i * 1e-3;
+        path.push_back(centre + Vec3(reach.x() * std::cos(0.5 * t), reach.y() * std::sin(0.5 * t),
+                                     reach.z() * std::sin(0.13 * t)));
       }
-      std::sort(us.begin(), us.end());
-      return std::pair{us[us.size() / 2], us[us.size() * 99 / 100]};
-    };
-    // A coherent path: 1 kHz servo ticks of a fingertip moving at 0.1 m/s through the shell.
-    std::vector<Vec3> path;
-    const Vec3 centre = c.part->bounds().centre();
-    const Vec3 reach = 0.5 * c.part->bounds().size() + Vec3::Constant(2 * kMm);
-    for (int i = 0; i < 20000; ++i) {
-      const double t = i * 1e-3;
-      path.push_back(centre + Vec3(reach.x() * std::cos(0.5 * t), reach.y() * std::sin(0.5 * t),
-                                   reach.z() * std::sin(0.13 * t)));
+      const auto cold = time(points, false);
+      const auto warm = time(path, true);
+      std::printf("%-8s %-14s build %.1f ms, %zu KiB; random cold median %.3f us p99 %.3f us; "
+                  "path warm median %.3f us p99 %.3f us\n",
+                  c.name, toString(sign), buildMs, model->memoryBytes() / 1024, cold.first, cold.second, warm.first,
+                  warm.second);
     }
-    const auto cold = time(points, false);
-    const auto warm = time(path, true);
-    std::printf("%-8s build %.1f ms, %zu KiB; random cold median %.3f us p99 %.3f us; path warm median %.3f us p99 %.3f us\n",
-                c.name, buildMs, model->memoryBytes() / 1024, cold.first, cold.second, warm.first, warm.second);
   }
 }
 
