@@ -4,6 +4,7 @@
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakePolygon.hxx>
+#include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepPrimAPI_MakePrism.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
@@ -29,6 +30,7 @@
 #include "hapticgrasp/geometry/backends.hpp"
 #include "hapticgrasp/geometry/tessellation.hpp"
 #include "hapticgrasp/geometry/winding_number.hpp"
+#include "geometry/loop_crossings.hpp"
 #include "test_shapes.hpp"
 
 // ---- Heap accounting ------------------------------------------------------------------
@@ -424,6 +426,109 @@ int planarWinding(const std::vector<Eigen::Vector2d>& outline, const Eigen::Vect
     if (a.y() > 0 && b.y() <= 0 && side < 0) --winding;
   }
   return winding;
+}
+
+// ---- Faces whose wire crosses itself (loop_crossings.hpp, the tessellation's fill) -------
+
+Polyline polyline(const std::vector<Eigen::Vector2d>& outline) {
+  Polyline loop;
+  for (const auto& p : outline) loop.emplace_back(p.x(), p.y(), 0);
+  return loop;
+}
+double signedArea(const Polyline& loop) {  // seen from +z
+  double twice = 0;
+  for (std::size_t i = 0; i < loop.size(); ++i) {
+    const gp_XYZ& a = loop[i];
+    const gp_XYZ& b = loop[(i + 1) % loop.size()];
+    twice += a.X() * b.Y() - a.Y() * b.X();
+  }
+  return twice / 2;
+}
+
+// The base outline of the corpus's defect_selfx_wire: its fourth side dips across the first
+// at x = 80/21, leaving a lobe below y = 0 that runs clockwise.
+const std::vector<Eigen::Vector2d> kDippingOutline{{0, 0}, {30, 0}, {30, 20}, {0, 20}, {4, -1}};
+
+TEST(LoopCrossings, CutsAtEachCrossingIntoLoopsCountedByTheirDirection) {
+  const gp_Dir up(0, 0, 1);
+  // The dipping outline: the quadrilateral the outline runs anticlockwise (+1) and the
+  // lobe it turns over (-1), meeting at the crossing, one point in both.
+  const std::vector<Polyline> dipping = cutAtCrossings(polyline(kDippingOutline), up);
+  ASSERT_EQ(dipping.size(), 2u);
+  std::vector<double> areas{signedArea(dipping[0]), signedArea(dipping[1])};
+  std::sort(areas.begin(), areas.end());
+  EXPECT_NEAR(areas[0], -0.5 * 80.0 / 21, 1e-12);                 // the lobe: 80/21 along y = 0, 1 deep
+  EXPECT_NEAR(areas[1], 0.5 * (30 - 80.0 / 21 + 30) * 20, 1e-12);  // parallel sides along y = 0 and y = 20
+  EXPECT_NEAR(areas[0] + areas[1], signedArea(polyline(kDippingOutline)), 1e-12);  // what the outline's own area counts
+  int shared = 0;
+  for (const gp_XYZ& p : dipping[0])
+    for (const gp_XYZ& q : dipping[1]) shared += p.IsEqual(q, 0);
+  EXPECT_EQ(shared, 1);
+  // The pentagram winds twice round its middle: two anticlockwise loops that overlap there
+  // (a triangle over two tips, a quadrilateral over the other three), neither crossing
+  // itself, their areas adding up to the outline's, which counts the middle twice.
+  std::vector<Eigen::Vector2d> star;
+  for (int k = 0; k < 5; ++k) star.emplace_back(std::cos(k * 4 * std::numbers::pi / 5), std::sin(k * 4 * std::numbers::pi / 5));
+  const std::vector<Polyline> pentagram = cutAtCrossings(polyline(star), up);
+  ASSERT_EQ(pentagram.size(), 2u);
+  EXPECT_EQ(pentagram[0].size() + pentagram[1].size(), 5u + 2 * 5u);  // every crossing a corner of both
+  for (const Polyline& loop : pentagram) {
+    EXPECT_GT(signedArea(loop), 0);
+    EXPECT_EQ(cutAtCrossings(loop, up).size(), 1u);
+  }
+  EXPECT_NEAR(signedArea(pentagram[0]) + signedArea(pentagram[1]), signedArea(polyline(star)), 1e-12);
+  // A loop that does not cross itself comes back whole.
+  EXPECT_EQ(cutAtCrossings(polyline(kL.profile), up).size(), 1u);
+}
+
+// The pyramid of defect_selfx_wire (a loft from the dipping outline to an apex): BRepMesh
+// leaves its base without triangles, and the fill covers where the outline winds, the lobe
+// included (ShapeFix splits the lobe off as a face of its own, and OCCT's area counts it
+// -1: 560 mm^2), but not the corner the dipping side cuts off. A fan over the outline
+// turned every triangle outwards and so covered that corner too: points below it measured
+// to a base that is not there, 0.6 mm too near.
+TEST(MeshPenetration, ACrossingWireIsFilledWhereItWinds) {
+  BRepBuilderAPI_MakePolygon base;
+  for (const auto& p : kDippingOutline) base.Add(gp_Pnt(p.x(), p.y(), 0));
+  base.Close();
+  BRepOffsetAPI_ThruSections loft(true, true);
+  loft.AddWire(base.Wire());
+  loft.AddVertex(BRepBuilderAPI_MakeVertex(gp_Pnt(15, 10, 15)).Vertex());
+  loft.Build();
+  ASSERT_TRUE(loft.IsDone());
+  const PartModelPtr part = PartModel::fromShape(loft.Shape(), LengthUnit::Millimetre, "dipping pyramid");
+  ASSERT_TRUE(part->backendChoice().surfaceMayCross) << part->backendChoice().reason;
+  const Tessellation mesh = tessellate(*part, 0.01 * kMm);
+  ASSERT_EQ(mesh.filledFaces.size(), 1u);
+  double covered = 0, counted = 0;  // mm^2: the fill's area, and its area along the base's outward -z
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (mesh.triangleFace[t] != mesh.filledFaces[0]) continue;
+    const Vec3 a = mesh.vertices[mesh.triangles[t][0]], b = mesh.vertices[mesh.triangles[t][1]],
+               c = mesh.vertices[mesh.triangles[t][2]];
+    const Vec3 area = 0.5 * (b - a).cross(c - a) / (kMm * kMm);
+    covered += area.norm();
+    counted -= area.z();
+  }
+  const double lobe = 0.5 * 80.0 / 21, quadrilateral = 0.5 * (30 - 80.0 / 21 + 30) * 20;
+  EXPECT_NEAR(covered, quadrilateral + lobe, 1e-9);
+  EXPECT_NEAR(counted, quadrilateral - lobe, 1e-9);
+
+  const PenetrationModelPtr model = makePenetration(part);
+  QueryState state;
+  // Below the cut-off corner: the nearest base is the first side, at y = 0.
+  const Penetration corner = model->query(Vec3(2.7, 0.6, -0.6) * kMm, state);
+  EXPECT_NEAR(corner.distance(), std::hypot(0.6, 0.6) * kMm, 1e-12);
+  EXPECT_FALSE(corner.inside);
+  // Below the lobe: its fill, straight above. Above it, inside the cone over the lobe, the
+  // part winds -1 round the point: not enclosed.
+  const Penetration below = model->query(Vec3(3.7, -0.3, -0.2) * kMm, state);
+  EXPECT_NEAR(below.distance(), 0.2 * kMm, 1e-12);
+  EXPECT_FALSE(below.inside);
+  const Penetration above = model->query(Vec3(3.7, -0.3, 0.05) * kMm, state);
+  EXPECT_NEAR(above.distance(), 0.05 * kMm, 1e-12);
+  EXPECT_FALSE(above.inside);
+  // Inside the pyramid proper.
+  EXPECT_TRUE(model->query(Vec3(15, 10, 1) * kMm, state).inside);
 }
 
 // A prism whose faces pass through each other (its top turned 150 degrees against its
