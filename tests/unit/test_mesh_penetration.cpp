@@ -730,26 +730,67 @@ TEST(MeshPenetration, FarPoints) {
 // state, a fresh state per point, and states left by other parts or back ends agree.
 TEST(MeshPenetration, WarmStartGivesTheColdAnswer) {
   const PartModelPtr part = cylinder();
-  const PenetrationModelPtr model = makeMeshPenetration(part, 0.01 * kMm);
-  QueryState carried;
-  for (int i = 0; i < 2000; ++i) {
-    const double t = i * 0.01;
-    const Vec3 x(0.052 * std::cos(t), 0.048 * std::sin(1.3 * t), 0.2 + 0.21 * std::sin(0.7 * t));
-    const Penetration warm = model->query(x, carried);
-    QueryState fresh;
-    const Penetration cold = model->query(x, fresh);
-    ASSERT_NEAR(warm.depth, cold.depth, 1e-15) << i;
-    EXPECT_EQ(warm.inside, cold.inside);
+  for (const MeshSign sign : kSigns) {
+    SCOPED_TRACE(toString(sign));
+    const PenetrationModelPtr model = makeMeshPenetration(part, 0.01 * kMm, sign);
+    QueryState carried;
+    for (int i = 0; i < 2000; ++i) {
+      const double t = i * 0.01;
+      const Vec3 x(0.052 * std::cos(t), 0.048 * std::sin(1.3 * t), 0.2 + 0.21 * std::sin(0.7 * t));
+      const Penetration warm = model->query(x, carried);
+      QueryState fresh;
+      const Penetration cold = model->query(x, fresh);
+      ASSERT_NEAR(warm.depth, cold.depth, 1e-15) << i;
+      EXPECT_EQ(warm.inside, cold.inside);
 
-    QueryState foreign;  // as another back end might leave it: a face with (u, v)
-    foreign.feature = Feature::Face;
-    foreign.index = cold.featureIndex;
-    foreign.u = (i % 3 == 0) ? 1e12 : (i % 3 == 1) ? -3.0 : 5.0;
-    foreign.v = 0.25;
-    EXPECT_NEAR(model->query(x, foreign).depth, cold.depth, 1e-15);
+      QueryState foreign;  // as another back end might leave it: a face with (u, v)
+      foreign.feature = Feature::Face;
+      foreign.index = cold.featureIndex;
+      foreign.u = (i % 3 == 0) ? 1e12 : (i % 3 == 1) ? -3.0 : 5.0;
+      foreign.v = 0.25;
+      EXPECT_NEAR(model->query(x, foreign).depth, cold.depth, 1e-15);
+    }
+    EXPECT_EQ(carried.feature, Feature::Face);
+    EXPECT_GE(carried.index, 1);
   }
-  EXPECT_EQ(carried.feature, Feature::Face);
-  EXPECT_GE(carried.index, 1);
+}
+
+// The winding-number sign carried from tick to tick (QueryState::enclosure) is the one a
+// cold query gives, on paths in and out of parts whose faces cross, through the twice
+// enclosed middle of the star, 20 um a tick.
+TEST(MeshPenetration, TheCarriedWindingSignIsTheColdOne) {
+  for (const PartModelPtr& part : {kStar.part(), PartModel::fromShape(test::twistedPrism(5 * std::numbers::pi / 6),
+                                                                       LengthUnit::Millimetre)}) {
+    const PenetrationModelPtr model = makePenetration(part);
+    ASSERT_EQ(model->setting(), "deflection 0.01 mm, winding-number sign");
+    const Vec3 centre = part->bounds().centre(), reach = 0.5 * part->bounds().size() + Vec3::Constant(kMm);
+    QueryState carried;
+    int changes = 0;
+    bool last = false;
+    for (int i = 0; i < 20000; ++i) {
+      const double t = i * 2e-5 / reach.norm();
+      const Vec3 x = centre + Vec3(reach.x() * std::sin(3 * t), reach.y() * std::sin(5 * t + 1), reach.z() * std::sin(7 * t));
+      const Penetration warm = model->query(x, carried);
+      QueryState fresh;
+      ASSERT_EQ(warm.inside, model->query(x, fresh).inside) << i << ": " << x.transpose();
+      changes += warm.inside != last;
+      last = warm.inside;
+    }
+    EXPECT_GT(changes, 4);  // the path goes in and out
+  }
+}
+
+// A state another model wrote is not taken for this one's: here the star's middle, inside
+// the star and far outside a square prism elsewhere, queried with the star's state.
+TEST(MeshPenetration, AnotherModelsWindingSignIsNotTaken) {
+  const Prism aside{{{30, 30}, {60, 30}, {60, 60}, {30, 60}}, 10};
+  const PenetrationModelPtr star = makePenetration(kStar.part());
+  const PenetrationModelPtr square = makeMeshPenetration(aside.part(), 0.01 * kMm, MeshSign::WindingNumber);
+  const Vec3 middle = Vec3(0, 0, 5) * kMm;
+  QueryState state;
+  ASSERT_TRUE(star->query(middle, state).inside);
+  EXPECT_FALSE(square->query(middle, state).inside);
+  EXPECT_TRUE(star->query(middle, state).inside);
 }
 
 // A contact law holding a point inside through track(): the mesh names no stable

@@ -136,11 +136,13 @@ class MeshPenetration final : public PenetrationModel {
   bool consider(unsigned triangle, Search& search) const noexcept;
   void warmStart(const QueryState& state, Search& search) const noexcept;
   const Vec3& outwardNormal(unsigned triangle, Region region) const noexcept;
-  void decideSide(const Vec3& x, Penetration& out) const noexcept;
+  bool encloses(const Vec3& x, double distance, double slack, EnclosureState& last) const noexcept;
+  void decideSide(const Vec3& x, double slack, Penetration& out, QueryState& state) const noexcept;
 
   double deflection_m_;
   // Built only for MeshSign::WindingNumber, over every triangle of the tessellation.
   std::optional<WindingNumber> winding_;
+  std::uint64_t id_;  // this model's name in an EnclosureState; unique in the process
   // Per triangle, in Embree's primitive order; degenerate triangles are left out.
   std::vector<Facet> facets_;          // metres, exact: the closest point is computed on these
   std::vector<Corners> triangles_;     // vertex indices, shared with Embree
@@ -179,8 +181,12 @@ std::vector<Vec3> triangleNormals(const Tessellation& mesh) {
 
 Vec3 unit(const Vec3& sum) { return sum.norm() > 0 ? Vec3(sum.normalized()) : Vec3(Vec3::Zero()); }
 
+// Each model's id, never reused: a state written by a model since destroyed cannot pass for
+// one written by a new model that happens to occupy the same memory.
+std::atomic<std::uint64_t> g_lastModelId{0};
+
 MeshPenetration::MeshPenetration(const PartModel& part, double deflection_m, MeshSign sign)
-    : deflection_m_(deflection_m) {
+    : deflection_m_(deflection_m), id_(++g_lastModelId) {
   const Tessellation mesh = tessellate(part, deflection_m);
   if (mesh.vertices.size() >= kNoTriangle || mesh.triangles.size() >= kNoTriangle)
     throw GeometryError("mesh penetration: too many triangles for Embree");
@@ -360,11 +366,25 @@ const Vec3& MeshPenetration::outwardNormal(unsigned triangle, Region region) con
 // through the solid, or folds back), and its normal is no way out: the normal handed out
 // is then the direction from x to the foot inside and from the foot to x outside, as the
 // reference's is, so that the reaction force still acts along -vector.
-void MeshPenetration::decideSide(const Vec3& x, Penetration& out) const noexcept {
+void MeshPenetration::decideSide(const Vec3& x, double slack, Penetration& out, QueryState& state) const noexcept {
   const bool facing = out.vector.dot(out.normal) < 0;
-  out.inside = winding_ ? winding_->encloses(x) : facing;
+  out.inside = winding_ ? encloses(x, out.vector.norm(), slack, state.enclosure) : facing;
   const double distance = out.vector.norm();
   if (out.inside != facing && distance > 0) out.normal = (out.inside ? -out.vector : out.vector) / distance;
+}
+
+// The winding number of a closed mesh changes only across its surface: while the fingertip
+// moves within the balls free of surface around its last point and its new one (their
+// radii the distances just measured), the last answer stands, and a coherent path walks
+// the tree only as it crosses the surface. (`hapticgrasp bench penetration`: a cold walk
+// takes 12 us median near defect_tight_sweep's 3248 triangles, 33 us near the sample
+// block's, against 0.3-0.5 us for the closest point; along a traced path the sign adds
+// nothing measurable.) `slack` covers the rounding of the two distances.
+bool MeshPenetration::encloses(const Vec3& x, double distance, double slack, EnclosureState& last) const noexcept {
+  const bool stayedClear = last.model == id_ && (x - last.x).norm() + slack < last.distance + distance;
+  const bool inside = stayedClear ? last.inside : winding_->encloses(x);
+  last = {id_, x, distance, inside};
+  return inside;
 }
 
 Penetration MeshPenetration::query(const Vec3& x, QueryState& state) const noexcept {
@@ -387,7 +407,7 @@ Penetration MeshPenetration::query(const Vec3& x, QueryState& state) const noexc
   out.foot = search.foot;
   out.vector = x - search.foot;
   out.normal = outwardNormal(search.triangle, search.region);
-  decideSide(x, out);
+  decideSide(x, search.slack, out, state);
   const double distance = out.vector.norm();
   out.depth = out.inside ? distance : -distance;
   out.feature = Feature::Face;  // the mesh names no stable B-rep edges or vertices
