@@ -368,8 +368,8 @@ const Vec3& MeshPenetration::outwardNormal(unsigned triangle, Region region) con
 // reference's is, so that the reaction force still acts along -vector.
 void MeshPenetration::decideSide(const Vec3& x, double slack, Penetration& out, QueryState& state) const noexcept {
   const bool facing = out.vector.dot(out.normal) < 0;
-  out.inside = winding_ ? encloses(x, out.vector.norm(), slack, state.enclosure) : facing;
   const double distance = out.vector.norm();
+  out.inside = winding_ ? encloses(x, distance, slack, state.enclosure) : facing;
   if (out.inside != facing && distance > 0) out.normal = (out.inside ? -out.vector : out.vector) / distance;
 }
 
