@@ -9,6 +9,7 @@
 #include <BRepClass_FaceClassifier.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Tool.hxx>
+#include <ShapeFix_Shape.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
 #include <gtest/gtest.h>
@@ -56,6 +57,22 @@ double windingNumber(const Tessellation& mesh, const Vec3& x) {
     omega += 2 * std::atan2(a.dot(b.cross(c)), la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb);
   }
   return omega / (4 * M_PI);
+}
+
+// The reference's face classifier (BRepClass) expects a wire that does not cross itself. On
+// defect_selfx_wire's base it calls the lobe that the dipping side turns over outside the
+// face, though the shell needs it to close (OCCT's area counts it, -1, and ShapeFix splits
+// it off as a face of its own), and a point beyond every side of the base inside: the mesh
+// measured 6.9e-5 m nearer there. ShapeFix_Shape, as FreeCAD's fix(1e-7, 1e-7, 1e-3),
+// splits such faces into valid ones over the same planes and region, and changes nothing
+// on the other defects: a defective part's distances are held to the reference on that.
+PartModelPtr withValidFaces(const PartModel& part) {
+  ShapeFix_Shape fix(part.shape());
+  fix.SetPrecision(1e-7);
+  fix.SetMinTolerance(1e-7);
+  fix.SetMaxTolerance(1e-3);
+  fix.Perform();
+  return PartModel::fromShape(fix.Shape(), LengthUnit::Millimetre, part.name() + ", its faces split by ShapeFix");
 }
 
 struct Agreement {
@@ -112,8 +129,8 @@ TEST_P(Corpus, LoadsAsExpectedAndAgreesWithTheReference) {
   std::vector<Vec3> path;
   const std::vector<Vec3> traced = traceSurfacePath(*model, sampler, 10000, 5e-5, std::min(1e-3, 0.5 * shell), rng);
   for (std::size_t i = 0; i < traced.size(); i += 10) path.push_back(traced[i]);
-  const PenetrationModelPtr reference = makeReferencePenetration(part);
   const bool defective = entry.expect == "robust";
+  const PenetrationModelPtr reference = makeReferencePenetration(defective ? withValidFaces(*part) : part);
   const Tessellation winding = defective ? tessellate(*part, 1e-5) : Tessellation{};
   Agreement a;
   compare(*model, *reference, random, false, defective ? &winding : nullptr, a);

@@ -437,6 +437,8 @@ TEST(PartModelDefects, FacesCrossingWithinOneSolidGoToTheMesh) {
   EXPECT_THAT(crossed->backendChoice().reason, testing::MatchesRegex("mesh 0.01 mm: faces [0-9]+ and [0-9]+ cross.*"
                                                                      "\\(not healable\\); the exact back end would "
                                                                      "answer wrongly there"));
+  EXPECT_TRUE(crossed->backendChoice().surfaceMayCross);
+  EXPECT_FALSE(mild->backendChoice().surfaceMayCross);
   EXPECT_EQ(makePenetration(crossed)->name(), "mesh");
 }
 
@@ -446,6 +448,7 @@ TEST(PartModelDefects, ASelfIntersectingWireIsAnsweredByTheMesh) {
   EXPECT_EQ(choice.backend, Backend::Mesh);
   EXPECT_THAT(choice.reason, testing::MatchesRegex("mesh 0.01 mm: self-intersecting wire in face [0-9]+ \\(not "
                                                    "healable\\); the exact back end would answer wrongly there"));
+  EXPECT_TRUE(choice.surfaceMayCross);
   EXPECT_EQ(choice.reason.find('\n'), std::string::npos);  // one line
 }
 

@@ -4,6 +4,11 @@
 // points against the pseudo-normal of the feature (triangle, edge or vertex) the foot
 // lies in. Error against the B-rep: about the deflection (BRepMesh does not bound it
 // strictly: 1.8x measured on a sphere); flat faces are exact.
+//
+// A part whose faces cross (a defect) makes a mesh that crosses itself, where the nearest
+// face may be one that passes through the solid: its pseudo-normal then calls a point
+// outside that the part encloses. There the sign comes from the mesh's generalised winding
+// number instead (MeshSign::WindingNumber), which counts what the surface encloses at all.
 #include <embree3/rtcore.h>
 
 #include <algorithm>
@@ -15,12 +20,14 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
 
 #include "hapticgrasp/geometry/backends.hpp"
 #include "hapticgrasp/geometry/tessellation.hpp"
+#include "hapticgrasp/geometry/winding_number.hpp"
 
 namespace hg::geometry {
 namespace {
@@ -86,7 +93,7 @@ struct SceneRelease {
 
 class MeshPenetration final : public PenetrationModel {
  public:
-  MeshPenetration(const PartModel& part, double deflection_m);
+  MeshPenetration(const PartModel& part, double deflection_m, MeshSign sign);
 
   std::string_view name() const noexcept override { return "mesh"; }
   std::string setting() const override;
@@ -129,8 +136,13 @@ class MeshPenetration final : public PenetrationModel {
   bool consider(unsigned triangle, Search& search) const noexcept;
   void warmStart(const QueryState& state, Search& search) const noexcept;
   const Vec3& outwardNormal(unsigned triangle, Region region) const noexcept;
+  bool encloses(const Vec3& x, double distance, double slack, EnclosureState& last) const noexcept;
+  void decideSide(const Vec3& x, double slack, Penetration& out, QueryState& state) const noexcept;
 
   double deflection_m_;
+  // Built only for MeshSign::WindingNumber, over every triangle of the tessellation.
+  std::optional<WindingNumber> winding_;
+  std::uint64_t id_;  // this model's name in an EnclosureState; unique in the process
   // Per triangle, in Embree's primitive order; degenerate triangles are left out.
   std::vector<Facet> facets_;          // metres, exact: the closest point is computed on these
   std::vector<Corners> triangles_;     // vertex indices, shared with Embree
@@ -169,18 +181,25 @@ std::vector<Vec3> triangleNormals(const Tessellation& mesh) {
 
 Vec3 unit(const Vec3& sum) { return sum.norm() > 0 ? Vec3(sum.normalized()) : Vec3(Vec3::Zero()); }
 
-MeshPenetration::MeshPenetration(const PartModel& part, double deflection_m) : deflection_m_(deflection_m) {
+// Each model's id, never reused: a state written by a model since destroyed cannot pass for
+// one written by a new model that happens to occupy the same memory.
+std::atomic<std::uint64_t> g_lastModelId{0};
+
+MeshPenetration::MeshPenetration(const PartModel& part, double deflection_m, MeshSign sign)
+    : deflection_m_(deflection_m), id_(++g_lastModelId) {
   const Tessellation mesh = tessellate(part, deflection_m);
   if (mesh.vertices.size() >= kNoTriangle || mesh.triangles.size() >= kNoTriangle)
     throw GeometryError("mesh penetration: too many triangles for Embree");
+  if (sign == MeshSign::WindingNumber) winding_.emplace(mesh.vertices, mesh.triangles);
   computePseudoNormals(mesh);
   copyVerticesForEmbree(mesh.vertices);
   buildScene();
 }
 
 std::string MeshPenetration::setting() const {
-  char text[48];
-  std::snprintf(text, sizeof text, "deflection %g mm", deflection_m_ * 1e3);
+  char text[64];
+  std::snprintf(text, sizeof text, "deflection %g mm, %s sign", deflection_m_ * 1e3,
+                winding_ ? "winding-number" : "pseudo-normal");
   return text;
 }
 
@@ -188,7 +207,7 @@ std::size_t MeshPenetration::memoryBytes() const noexcept {
   return facets_.capacity() * sizeof(Facet) + triangles_.capacity() * sizeof(Corners) +
          triangleFace_.capacity() * sizeof(int) + triangleNormal_.capacity() * sizeof(Vec3) +
          edgeNormal_.capacity() * sizeof(edgeNormal_[0]) + floatVertices_.capacity() * sizeof(float) +
-         vertexNormal_.capacity() * sizeof(Vec3) +
+         vertexNormal_.capacity() * sizeof(Vec3) + (winding_ ? winding_->memoryBytes() : 0) +
          static_cast<std::size_t>(std::max(embreeBytes_.load(std::memory_order_relaxed), 0LL));
 }
 
@@ -341,6 +360,33 @@ const Vec3& MeshPenetration::outwardNormal(unsigned triangle, Region region) con
   return pseudo->isZero(0) ? triangleNormal_[triangle] : *pseudo;
 }
 
+// Pseudo-normals: x is inside iff x - foot points against the normal of the feature the
+// foot lies in. The winding number, where it is kept, overrules them; where the two
+// disagree, the nearest face is turned against what the part encloses at x (it passes
+// through the solid, or folds back), and its normal is no way out: the normal handed out
+// is then the direction from x to the foot inside and from the foot to x outside, as the
+// reference's is, so that the reaction force still acts along -vector.
+void MeshPenetration::decideSide(const Vec3& x, double slack, Penetration& out, QueryState& state) const noexcept {
+  const bool facing = out.vector.dot(out.normal) < 0;
+  const double distance = out.vector.norm();
+  out.inside = winding_ ? encloses(x, distance, slack, state.enclosure) : facing;
+  if (out.inside != facing && distance > 0) out.normal = (out.inside ? -out.vector : out.vector) / distance;
+}
+
+// The winding number of a closed mesh changes only across its surface: while the fingertip
+// moves within the balls free of surface around its last point and its new one (their
+// radii the distances just measured), the last answer stands, and a coherent path walks
+// the tree only as it crosses the surface. (`hapticgrasp bench penetration`: a cold walk
+// takes 12 us median near defect_tight_sweep's 3248 triangles, 33 us near the sample
+// block's, against 0.3-0.5 us for the closest point; along a traced path the sign adds
+// nothing measurable.) `slack` covers the rounding of the two distances.
+bool MeshPenetration::encloses(const Vec3& x, double distance, double slack, EnclosureState& last) const noexcept {
+  const bool stayedClear = last.model == id_ && (x - last.x).norm() + slack < last.distance + distance;
+  const bool inside = stayedClear ? last.inside : winding_->encloses(x);
+  last = {id_, x, distance, inside};
+  return inside;
+}
+
 Penetration MeshPenetration::query(const Vec3& x, QueryState& state) const noexcept {
   if (!x.allFinite()) return {};
   Search search{this, x, meshSlack_ + kFloatSlack * x.cwiseAbs().maxCoeff()};
@@ -361,7 +407,7 @@ Penetration MeshPenetration::query(const Vec3& x, QueryState& state) const noexc
   out.foot = search.foot;
   out.vector = x - search.foot;
   out.normal = outwardNormal(search.triangle, search.region);
-  out.inside = out.vector.dot(out.normal) < 0;
+  decideSide(x, search.slack, out, state);
   const double distance = out.vector.norm();
   out.depth = out.inside ? distance : -distance;
   out.feature = Feature::Face;  // the mesh names no stable B-rep edges or vertices
@@ -376,9 +422,9 @@ Penetration MeshPenetration::query(const Vec3& x, QueryState& state) const noexc
 
 }  // namespace
 
-PenetrationModelPtr makeMeshPenetration(PartModelPtr part, double deflection_m) {
+PenetrationModelPtr makeMeshPenetration(PartModelPtr part, double deflection_m, MeshSign sign) {
   if (!part) throw GeometryError("mesh penetration: no part");
-  return std::make_shared<const MeshPenetration>(*part, deflection_m);
+  return std::make_shared<const MeshPenetration>(*part, deflection_m, sign);
 }
 
 }  // namespace hg::geometry

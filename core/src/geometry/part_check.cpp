@@ -187,9 +187,10 @@ std::string overlapWarning(const std::vector<SolidOverlap>& overlaps, const Topo
 
 BackendChoice robustBackend(const std::string& defect) {
 #ifdef HG_WITH_EMBREE
-  return {Backend::Mesh, "mesh 0.01 mm: " + defect + " (not healable); the exact back end would answer wrongly there"};
+  return {Backend::Mesh, "mesh 0.01 mm: " + defect + " (not healable); the exact back end would answer wrongly there",
+          true};
 #else
-  return {Backend::Field, "field 1 mm: " + defect + " (not healable); the exact back end would answer wrongly there"};
+  return {Backend::Field, "field 1 mm: " + defect + " (not healable); the exact back end would answer wrongly there", true};
 #endif
 }
 

@@ -16,12 +16,15 @@
 #include <TopoDS.hxx>
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Wire.hxx>
+#include <gp_Ax3.hxx>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <unordered_map>
 #include <vector>
+
+#include "loop_crossings.hpp"
 
 namespace hg::geometry {
 namespace {
@@ -84,40 +87,49 @@ std::vector<gp_Pnt> edgePoints(const TopoDS_Edge& edge, double deflection) {
   return points;
 }
 
-// Triangles for a face BRepMesh left without any (a self-intersecting wire, a broken
-// pcurve): its boundary, as its neighbours discretized it, triangulated in the plane of its
-// outline and turned the way the face faces. Without them the mesh would have a hole there,
-// and points near the hole would take their sign from faces across it.
-std::vector<std::array<gp_Pnt, 3>> fillFace(const TopoDS_Face& face, double deflection) {
+using Triangle = std::array<gp_Pnt, 3>;
+
+// Newell: the area vector of a closed polyline (its normal times its area, for a planar one).
+gp_XYZ areaVector(const Polyline& loop) {
+  gp_XYZ sum(0, 0, 0);
+  for (std::size_t k = 0; k < loop.size(); ++k) sum += loop[k].Crossed(loop[(k + 1) % loop.size()]);
+  return sum * 0.5;
+}
+
+// Whether p lies inside a closed polyline, seen along `normal` (even-odd crossings of a ray
+// in the plane).
+bool encloses(const Polyline& loop, const gp_XYZ& p, const gp_Dir& normal) {
+  const gp_Ax3 frame(gp_Pnt(0, 0, 0), normal);
+  const gp_XYZ ex = frame.XDirection().XYZ(), ey = frame.YDirection().XYZ();
+  const double px = p.Dot(ex), py = p.Dot(ey);
+  bool in = false;
+  for (std::size_t i = 0, j = loop.size() - 1; i < loop.size(); j = i++) {
+    const double xi = loop[i].Dot(ex), yi = loop[i].Dot(ey), xj = loop[j].Dot(ex), yj = loop[j].Dot(ey);
+    if ((yi > py) != (yj > py) && px < xi + (py - yi) / (yj - yi) * (xj - xi)) in = !in;
+  }
+  return in;
+}
+
+// Triangles over a region: an outline running counter-clockwise about `up` and the holes
+// inside it running the other way, each triangle facing `up`. BRepMesh_Triangulator
+// first; if it fails, a fan from the middle of the outline over every loop, each triangle
+// turned as its loop runs: whatever the loops' shape, a chain whose boundary is the loops.
+std::vector<Triangle> triangulate(const std::vector<const Polyline*>& loops, const gp_Dir& up) {
   NCollection_Vector<gp_XYZ> points;
   NCollection_List<TColStd_SequenceOfInteger> wires;
-  gp_XYZ normal(0, 0, 0), centre(0, 0, 0);
-  for (TopExp_Explorer w(face, TopAbs_WIRE); w.More(); w.Next()) {
-    TColStd_SequenceOfInteger loop;
-    for (BRepTools_WireExplorer e(TopoDS::Wire(w.Current()), face); e.More(); e.Next()) {
-      std::vector<gp_Pnt> along = edgePoints(e.Current(), deflection);
-      if (e.Current().Orientation() == TopAbs_REVERSED) std::reverse(along.begin(), along.end());
-      for (std::size_t k = 0; k + 1 < along.size(); ++k) {  // the last point starts the next edge
-        loop.Append(points.Length());
-        points.Append(along[k].XYZ());
-      }
+  for (const Polyline* loop : loops) {
+    TColStd_SequenceOfInteger wire;
+    for (const gp_XYZ& p : *loop) {
+      wire.Append(points.Length());
+      points.Append(p);
     }
-    if (loop.Length() < 3) continue;
-    for (int k = 1; k <= loop.Length(); ++k) {  // Newell: the loop's area vector
-      const gp_XYZ& a = points(loop(k));
-      const gp_XYZ& b = points(loop(k % loop.Length() + 1));
-      normal += a.Crossed(b);
-      centre += a;
-    }
-    wires.Append(loop);
+    wires.Append(wire);
   }
-  std::vector<std::array<gp_Pnt, 3>> triangles;
-  if (wires.IsEmpty() || normal.Modulus() <= 0) return triangles;
-  const gp_Dir outward(normal);
+  std::vector<Triangle> triangles;
   NCollection_List<Poly_Triangle> found;
   bool done = false;
   try {
-    BRepMesh_Triangulator triangulator(points, wires, outward);
+    BRepMesh_Triangulator triangulator(points, wires, up);
     done = triangulator.Perform(found);
   } catch (const Standard_Failure&) {
     done = false;
@@ -125,20 +137,95 @@ std::vector<std::array<gp_Pnt, 3>> fillFace(const TopoDS_Face& face, double defl
   if (done) {
     for (const Poly_Triangle& t : found) {
       int a, b, c;
-      t.Get(a, b, c);
-      triangles.push_back({gp_Pnt(points(a - 1)), gp_Pnt(points(b - 1)), gp_Pnt(points(c - 1))});
+      t.Get(a, b, c);  // 1-based
+      Triangle triangle{gp_Pnt(points(a - 1)), gp_Pnt(points(b - 1)), gp_Pnt(points(c - 1))};
+      if (gp_Vec(triangle[0], triangle[1]).Crossed(gp_Vec(triangle[0], triangle[2])).Dot(gp_Vec(up)) < 0)
+        std::swap(triangle[1], triangle[2]);
+      triangles.push_back(triangle);
     }
-  } else {
-    // A fan from the centre of the boundary: closed along the boundary, whatever its shape.
-    int count = 0;
-    for (const TColStd_SequenceOfInteger& loop : wires) count += loop.Length();
-    const gp_Pnt middle(centre / count);
-    for (const TColStd_SequenceOfInteger& loop : wires)
-      for (int k = 1; k <= loop.Length(); ++k)
-        triangles.push_back({middle, gp_Pnt(points(loop(k))), gp_Pnt(points(loop(k % loop.Length() + 1)))});
+    return triangles;
   }
-  for (auto& t : triangles)
-    if (gp_Vec(t[0], t[1]).Crossed(gp_Vec(t[0], t[2])).Dot(gp_Vec(outward)) < 0) std::swap(t[1], t[2]);
+  gp_XYZ centre(0, 0, 0);
+  for (const gp_XYZ& p : *loops.front()) centre += p;
+  const gp_Pnt middle(centre / static_cast<double>(loops.front()->size()));
+  for (const Polyline* loop : loops)
+    for (std::size_t k = 0; k < loop->size(); ++k)
+      triangles.push_back({middle, gp_Pnt((*loop)[k]), gp_Pnt((*loop)[(k + 1) % loop->size()])});
+  return triangles;
+}
+
+// Triangles for a face BRepMesh left without any (a self-intersecting wire, a broken
+// pcurve): its boundary, as its neighbours discretized it, triangulated in the plane of its
+// outline and turned the way the face faces. Without them the mesh would have a hole there,
+// and points near the hole would take their sign from faces across it.
+//
+// A wire that crosses itself means the region where its planar winding number is not 0,
+// counted with that number (the part's winding number counts the face so): it is cut at
+// its crossings into loops that do not cross. Each loop that runs the face's way is
+// filled, less the loops running the other way inside it (holes, or where a lobe cancels
+// it); a loop running the other way inside none is a lobe turned over, filled facing
+// inwards. So the fill covers the region and no more (a fan would also cover, twice and
+// cancelling, corners the wire cuts off: too close a foot for points near them).
+std::vector<Triangle> fillFace(const TopoDS_Face& face, double deflection) {
+  std::vector<Polyline> wires;
+  gp_XYZ normal(0, 0, 0);
+  for (TopExp_Explorer w(face, TopAbs_WIRE); w.More(); w.Next()) {
+    Polyline loop;
+    for (BRepTools_WireExplorer e(TopoDS::Wire(w.Current()), face); e.More(); e.Next()) {
+      std::vector<gp_Pnt> along = edgePoints(e.Current(), deflection);
+      if (e.Current().Orientation() == TopAbs_REVERSED) std::reverse(along.begin(), along.end());
+      for (std::size_t k = 0; k + 1 < along.size(); ++k) loop.push_back(along[k].XYZ());  // the last point starts the next edge
+    }
+    if (loop.size() < 3) continue;
+    normal += areaVector(loop);
+    wires.push_back(std::move(loop));
+  }
+  if (wires.empty() || normal.Modulus() <= 0) return {};
+  const gp_Dir outward(normal);
+
+  std::vector<Polyline> loops;
+  bool crossed = false;
+  for (const Polyline& wire : wires) {
+    std::vector<Polyline> cut = cutAtCrossings(wire, outward);
+    crossed |= cut.size() > 1;
+    for (Polyline& loop : cut) loops.push_back(std::move(loop));
+  }
+  if (!crossed) {  // the outline and its holes, as BRepCheck expects them
+    std::vector<const Polyline*> all;
+    for (const Polyline& wire : wires) all.push_back(&wire);
+    return triangulate(all, outward);
+  }
+
+  std::vector<const Polyline*> along, against;
+  for (const Polyline& loop : loops) (areaVector(loop).Dot(outward.XYZ()) > 0 ? along : against).push_back(&loop);
+  std::vector<std::vector<const Polyline*>> regions;
+  for (const Polyline* loop : along) regions.push_back({loop});
+  std::vector<Triangle> triangles;
+  for (const Polyline* loop : against) {
+    // A point surely inside the loop: the middle of its own largest triangle.
+    const std::vector<Triangle> own = triangulate({loop}, outward.Reversed());
+    const Triangle* largest = nullptr;
+    double area = 0;
+    for (const Triangle& t : own) {
+      const double a = gp_Vec(t[0], t[1]).Crossed(gp_Vec(t[0], t[2])).Magnitude();
+      if (a > area) area = a, largest = &t;
+    }
+    std::vector<const Polyline*>* region = nullptr;  // the innermost that encloses it
+    double regionArea = 0;
+    if (largest) {
+      const gp_XYZ inner = (largest->at(0).XYZ() + largest->at(1).XYZ() + largest->at(2).XYZ()) / 3;
+      for (auto& r : regions) {
+        const double rArea = areaVector(*r.front()).Modulus();
+        if ((!region || rArea < regionArea) && encloses(*r.front(), inner, outward)) region = &r, regionArea = rArea;
+      }
+    }
+    if (region) region->push_back(loop);  // a hole of that region
+    else triangles.insert(triangles.end(), own.begin(), own.end());  // a lobe turned over
+  }
+  for (const auto& region : regions) {
+    const std::vector<Triangle> filled = triangulate(region, outward);
+    triangles.insert(triangles.end(), filled.begin(), filled.end());
+  }
   return triangles;
 }
 

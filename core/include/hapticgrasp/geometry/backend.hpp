@@ -15,6 +15,10 @@ Backend parseBackend(std::string_view name);  // throws GeometryError
 struct BackendChoice {
   Backend backend = Backend::Exact;
   std::string reason;
+  // The part keeps a defect no fix removed (the reason names it): its surface may cross
+  // itself, so what it encloses is told by its winding number, not by the normals of the
+  // face nearest a point (which a face passing through the solid turns the wrong way).
+  bool surfaceMayCross = false;
 };
 
 }  // namespace hg::geometry

@@ -20,8 +20,19 @@ using PenetrationModelPtr = std::shared_ptr<const PenetrationModel>;
 PenetrationModelPtr makeReferencePenetration(PartModelPtr part);
 // Per-feature projection over a BVH with warm starts: exact and real-time safe.
 PenetrationModelPtr makeExactPenetration(PartModelPtr part);
+// How the mesh back end tells inside from outside.
+enum class MeshSign {
+  // The angle-weighted pseudo-normal of the triangle, edge or vertex the foot lies in:
+  // exact on a closed mesh that does not cross itself, and it costs nothing more.
+  PseudoNormal,
+  // The generalised winding number above 1/2 (winding_number.hpp): what the part encloses
+  // at all, also where its faces cross or fold through each other. A cold query walks a
+  // second tree (tens of us near thousands of triangles); a fingertip's QueryState carries
+  // the answer while it crosses no surface.
+  WindingNumber,
+};
 // Tessellation + Embree closest-point queries; error <= about the deflection.
-PenetrationModelPtr makeMeshPenetration(PartModelPtr part, double deflection_m);
+PenetrationModelPtr makeMeshPenetration(PartModelPtr part, double deflection_m, MeshSign sign = MeshSign::PseudoNormal);
 // Closed form for a part recognised as a cylinder, box or sphere; throws GeometryError
 // if part->primitive() is None.
 PenetrationModelPtr makeAnalyticPenetration(PartModelPtr part);
@@ -57,6 +68,8 @@ inline constexpr double kDefaultVoxel_m = 1e-3;
 // Auto: the back end the part's load chose (part->backendChoice(): exact for a valid or
 // healed B-rep, mesh or field for a defect it could not heal), and for a recognised
 // primitive with a valid B-rep, analytic: model only what the scene requires.
+// The mesh, chosen or asked for, takes its sign from the winding number where the part's
+// surface may cross itself (backendChoice().surfaceMayCross), from pseudo-normals elsewhere.
 PenetrationModelPtr makePenetration(PartModelPtr part, Backend backend = Backend::Auto,
                                    double setting_m = 0);
 

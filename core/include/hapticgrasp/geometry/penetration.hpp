@@ -51,6 +51,17 @@ struct SurfaceJetState {
   double values[18] = {};  // point, S_u, S_v, S_uu, S_vv, S_uv
 };
 
+// The mesh back end's winding-number sign at the last point it answered. No surface lies
+// within `distance` of `x`: a fingertip that moves to x' with |x' - x| < distance +
+// distance' stays inside the two balls free of surface, crosses none, and is enclosed as x
+// was. `model` names the back end that wrote it (0: none), so that another's is not taken.
+struct EnclosureState {
+  std::uint64_t model = 0;
+  Vec3 x = Vec3::Zero();
+  double distance = 0;
+  bool inside = false;
+};
+
 // Small mutable state of one fingertip, kept by the caller from tick to tick: the warm
 // starts of the next query and the feature tracked while in contact. Plain data, no heap.
 struct QueryState {
@@ -63,6 +74,7 @@ struct QueryState {
   static constexpr int kNeighbours = 6;
   WarmStart neighbours[kNeighbours];
   SurfaceJetState jet;
+  EnclosureState enclosure;
   Feature tracked = Feature::None;  // feature held while in contact (hysteresis)
   int trackedIndex = 0;
   double tu = 0, tv = 0;
