@@ -21,6 +21,7 @@
 #include "hapticgrasp/grasp/multi_finger/multi_finger_scene.hpp"
 #include "hapticgrasp/servo/grasp_engine.hpp"
 #include "hapticgrasp/servo/scripted_hand_device.hpp"
+#include "hapticgrasp/servo/pose_tracker.hpp"
 #include "hapticgrasp/servo/servo_loop.hpp"
 
 namespace hg {
@@ -220,9 +221,12 @@ TEST(MultiFingerServo, ThreeFingeredHandCarriesThePartOnTheServoThread) {
   EXPECT_TRUE(seen & grasp::kLift);
   EXPECT_TRUE(seen & grasp::kRelease);
   EXPECT_EQ(s.state, GraspState::Free);
-  EXPECT_NEAR(s.poses[0].position.x(), kCarry, 0.006);
-  EXPECT_NEAR(s.poses[0].position.z(), kLift, 0.008);
-  EXPECT_EQ(s.poses[1].position, kFarBox);
+  servo::PoseTracker tracker({scene()->part(0).initialPose, scene()->part(1).initialPose});
+  EXPECT_TRUE(tracker.update(s));  // the put-down is in the snapshot's log
+  EXPECT_EQ(s.movingCount, 0);
+  EXPECT_NEAR(tracker.pose(0).position.x(), kCarry, 0.006);
+  EXPECT_NEAR(tracker.pose(0).position.z(), kLift, 0.008);
+  EXPECT_EQ(tracker.pose(1).position, kFarBox);
   EXPECT_EQ(s.allocations, 0);
   EXPECT_EQ(s.watchdog.trips, 0u);
 }

@@ -18,6 +18,7 @@
 #include "alloc_counter.hpp"
 #include "hapticgrasp/servo/scripted_hand_device.hpp"
 #include "hapticgrasp/servo/servo_bench.hpp"
+#include "hapticgrasp/servo/pose_tracker.hpp"
 #include "hapticgrasp/servo/servo_loop.hpp"
 
 namespace hg::servo {
@@ -93,10 +94,21 @@ bool waitFor(const ServoLoop& loop, Pred done, std::chrono::duration<double> tim
   return false;
 }
 
+// Every part's pose as a reader rebuilds it from one snapshot (its log holds the session's
+// few put-downs and resets).
+std::vector<grasp::PartPose> posesIn(const ServoSnapshot& s, const grasp::Scene& scene) {
+  std::vector<grasp::PartPose> initial;
+  for (std::size_t i = 0; i < scene.size(); ++i) initial.push_back(scene.part(i).initialPose);
+  PoseTracker tracker(initial);
+  EXPECT_TRUE(tracker.update(s));
+  return {tracker.poses().begin(), tracker.poses().end()};
+}
+
 bool atInitialPoses(const ServoSnapshot& s, const grasp::Scene& scene) {
-  for (int i = 0; i < s.partCount; ++i) {
-    const auto& p0 = scene.part(static_cast<std::size_t>(i)).initialPose;
-    if (!s.poses[i].position.isApprox(p0.position, 1e-12) || !s.poses[i].rotation.isApprox(p0.rotation, 1e-12))
+  const auto poses = posesIn(s, scene);
+  for (std::size_t i = 0; i < scene.size(); ++i) {
+    const auto& p0 = scene.part(i).initialPose;
+    if (!poses[i].position.isApprox(p0.position, 1e-12) || !poses[i].rotation.isApprox(p0.rotation, 1e-12))
       return false;
   }
   return true;

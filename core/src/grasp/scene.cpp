@@ -17,21 +17,44 @@ ScenePart makeScenePart(geometry::PartModelPtr model, const geometry::MassSpec& 
   return part;
 }
 
-Scene::Scene(std::vector<ScenePart> parts) : parts_(std::move(parts)) {
-  for (std::size_t i = 0; i < parts_.size(); ++i) {
-    const ScenePart& p = parts_[i];
-    const std::string which = "scene part " + std::to_string(i);
-    if (!p.model || !p.penetration) throw std::invalid_argument(which + " lacks a model or a penetration back end");
-    if (!p.penetration->realTimeSafe())
-      throw std::invalid_argument(which + ": penetration back end '" + std::string(p.penetration->name()) +
-                                  "' may not run on the servo thread");
-    if (!(p.mass.mass_kg > 0) || !std::isfinite(p.mass.mass_kg) || !p.mass.centre_m.allFinite())
-      throw std::invalid_argument(which + " needs a positive, finite mass and centre of gravity");
-    const Mat3& R = p.initialPose.rotation;
-    if (!R.allFinite() || !p.initialPose.position.allFinite() ||
-        !(R.transpose() * R).isApprox(Mat3::Identity(), 1e-9) || !(R.determinant() > 0))
-      throw std::invalid_argument(which + ": initial pose is not a finite rotation and position");
+namespace {
+
+void validate(const ScenePart& p, std::size_t i) {
+  const std::string which = "scene part " + std::to_string(i);
+  if (!p.model || !p.penetration) throw std::invalid_argument(which + " lacks a model or a penetration back end");
+  if (!p.penetration->realTimeSafe())
+    throw std::invalid_argument(which + ": penetration back end '" + std::string(p.penetration->name()) +
+                                "' may not run on the servo thread");
+  if (!(p.mass.mass_kg > 0) || !std::isfinite(p.mass.mass_kg) || !p.mass.centre_m.allFinite())
+    throw std::invalid_argument(which + " needs a positive, finite mass and centre of gravity");
+  const Mat3& R = p.initialPose.rotation;
+  if (!R.allFinite() || !p.initialPose.position.allFinite() ||
+      !(R.transpose() * R).isApprox(Mat3::Identity(), 1e-9) || !(R.determinant() > 0))
+    throw std::invalid_argument(which + ": initial pose is not a finite rotation and position");
+}
+
+}  // namespace
+
+Scene::Scene(std::vector<ScenePart> parts)
+    : size_(parts.size()), current_(std::make_unique<std::atomic<const ScenePart*>[]>(parts.size())) {
+  for (std::size_t i = 0; i < parts.size(); ++i) validate(parts[i], i);
+  owned_.reserve(parts.size());
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    owned_.push_back(std::make_unique<const ScenePart>(std::move(parts[i])));
+    current_[i].store(owned_.back().get(), std::memory_order_relaxed);
   }
+}
+
+const ScenePart& Scene::publish(std::size_t i, ScenePart models) const {
+  if (i >= size_) throw std::out_of_range("scene part " + std::to_string(i) + " of " + std::to_string(size_));
+  models.initialPose = part(i).initialPose;
+  validate(models, i);
+  std::lock_guard lock(mutex_);
+  owned_.push_back(std::make_unique<const ScenePart>(std::move(models)));
+  const ScenePart* stored = owned_.back().get();
+  current_[i].store(stored, std::memory_order_release);
+  publications_.fetch_add(1, std::memory_order_acq_rel);
+  return *stored;
 }
 
 }  // namespace hg::grasp

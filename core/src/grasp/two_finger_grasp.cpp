@@ -11,7 +11,9 @@ TwoFingerGrasp::TwoFingerGrasp(ScenePtr scene, const GraspParameters& parameters
   if (!scene_) throw std::invalid_argument("TwoFingerGrasp needs a scene");
   k_.validate();
   poses_.resize(scene_->size());
-  boxes_.resize(scene_->size());
+  std::vector<geometry::Aabb> boxes(scene_->size());
+  for (std::size_t i = 0; i < boxes.size(); ++i) boxes[i] = worldBox(static_cast<int>(i), scene_->part(i).initialPose);
+  boxes_ = BroadPhase(boxes);
   reset();
 }
 
@@ -23,12 +25,17 @@ void TwoFingerGrasp::reset() noexcept {
   haveDistance_ = false;
   pendingDt_ = 0;
   held_ = -1;
+  heldModels_ = nullptr;
   frame_ = Mat3::Identity();
+}
+
+geometry::Aabb TwoFingerGrasp::worldBox(int part, const PartPose& pose) const noexcept {
+  return pose.absoluteBounds(scene_->part(static_cast<std::size_t>(part)).model->bounds()).inflated(k_.boxMargin_m);
 }
 
 void TwoFingerGrasp::setPose(int part, const PartPose& pose) noexcept {
   poses_[part] = pose;
-  boxes_[part] = pose.absoluteBounds(scene_->part(part).model->bounds()).inflated(k_.boxMargin_m);
+  boxes_.update(static_cast<std::size_t>(part), worldBox(part, pose));
 }
 
 GraspOutput TwoFingerGrasp::step(const HandSample& hand, double dt) noexcept {
@@ -99,13 +106,16 @@ Vec3 TwoFingerGrasp::touch(Finger finger, const Vec3& x, double dt, GraspOutput&
       return Vec3::Zero();
     }
   } else {
-    // A free fingertip: a box test per part, an exact query only where the box holds it.
+    // A free fingertip: the broad phase names the parts whose box holds it; only those
+    // are queried (the first kMaxNear of them, should more boxes nest around one point).
     int entered = -1;
-    for (std::size_t k = 0; k < boxes_.size(); ++k) {
-      if (!boxes_[k].contains(x)) continue;
-      const geometry::Penetration pk = query(tip, static_cast<int>(k), x, out);
-      if (pk.inside && (entered < 0 || pk.depth > p.depth)) {
-        entered = static_cast<int>(k);
+    int near[kMaxNear];
+    const std::size_t count = std::min<std::size_t>(boxes_.query(x, near), kMaxNear);
+    for (std::size_t n = 0; n < count; ++n) {
+      const int k = near[n];
+      const geometry::Penetration pk = query(tip, k, x, out);
+      if (pk.inside && (entered < 0 || pk.depth > p.depth || (pk.depth == p.depth && k < entered))) {
+        entered = k;
         p = pk;
       }
     }
@@ -127,17 +137,20 @@ Vec3 TwoFingerGrasp::touch(Finger finger, const Vec3& x, double dt, GraspOutput&
 }
 
 geometry::Penetration TwoFingerGrasp::query(Fingertip& tip, int part, const Vec3& x, GraspOutput& out) noexcept {
-  if (tip.queryPart != part) {  // another part's warm start means nothing here
+  const ScenePart& models = scene_->part(static_cast<std::size_t>(part));
+  if (tip.queryPart != part || tip.queryModels != &models) {  // another model's warm start means nothing here
     tip.query.reset();
     tip.queryPart = part;
+    tip.queryModels = &models;
   }
   ++out.queries;
   // Eqs 2-5: the fingertip in the object frame, then P_o.
-  return scene_->part(part).penetration->track(poses_[part].toObject(x), tip.query, k_.trackingHysteresis_m);
+  return models.penetration->track(poses_[part].toObject(x), tip.query, k_.trackingHysteresis_m);
 }
 
 void TwoFingerGrasp::beginGrasp(const HandSample& hand, int part, GraspOutput& out) noexcept {
   held_ = part;
+  heldModels_ = &scene_->part(static_cast<std::size_t>(part));  // its weight stays what the grasp felt first
   frame_ = firstHandFrame(hand, k_);
   memory_ = preserveGrasp(hand, poses_[part], frame_);
   state_ = GraspState::Grasp;
@@ -165,7 +178,7 @@ void TwoFingerGrasp::hold(const HandSample& hand, GraspOutput& out) noexcept {
   out.f_index = out.f_grasp * frame_.col(0);
   out.f_thumb = -out.f_index;
 
-  const ScenePart& part = scene_->part(held_);
+  const ScenePart& part = *heldModels_;
   Wrench wrist;
   if (state_ == GraspState::Grasp) {
     wrist = springWrench(pose, memory_.object, k_);  // eq 23
@@ -193,6 +206,7 @@ void TwoFingerGrasp::release(GraspOutput& out) noexcept {
   }
   state_ = GraspState::Free;
   held_ = -1;
+  heldModels_ = nullptr;
   for (Fingertip& tip : tips_) {
     tip.part = -1;
     tip.armed = false;  // a fingertip still inside must leave before it can grasp again

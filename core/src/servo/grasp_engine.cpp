@@ -12,7 +12,10 @@ TwoFingerEngine::TwoFingerEngine(grasp::ScenePtr scene, const grasp::GraspParame
 TwoFingerEngine::~TwoFingerEngine() = default;
 
 std::size_t TwoFingerEngine::partCount() const noexcept { return grasp_->poses().size(); }
-void TwoFingerEngine::reset() noexcept { grasp_->reset(); }
+void TwoFingerEngine::reset() noexcept {
+  grasp_->reset();
+  held_ = -1;
+}
 grasp::GraspState TwoFingerEngine::state() const noexcept { return grasp_->state(); }
 std::span<const grasp::PartPose> TwoFingerEngine::poses() const noexcept { return grasp_->poses(); }
 
@@ -22,6 +25,7 @@ EngineStep TwoFingerEngine::step(const grasp::HandSample& hand, double dt) noexc
   s.events = g.events;
   s.graspedPart = g.graspedPart;
   s.validSample = g.validSample;
+  held_ = g.state == grasp::GraspState::Grasp || g.state == grasp::GraspState::Manipulate ? g.graspedPart : -1;
   if (g.validSample) {
     s.command.f_index = g.f_index;
     s.command.f_thumb = g.f_thumb;

@@ -117,8 +117,6 @@ ServoLoop::ServoLoop(std::shared_ptr<device::Device> device, std::unique_ptr<Gra
     : device_(std::move(device)), engine_(std::move(engine)), config_(config) {
   if (!device_) throw std::invalid_argument("servo loop: no device");
   if (!engine_) throw std::invalid_argument("servo loop: no grasp method");
-  if (engine_->partCount() > static_cast<std::size_t>(ServoSnapshot::kMaxParts))
-    throw std::invalid_argument("servo loop: more than " + std::to_string(ServoSnapshot::kMaxParts) + " parts");
   if (engine_->fingertips() > device_->spec().fingertips)
     throw std::invalid_argument("servo loop: the " + std::string(engine_->name()) + " method needs " +
                                 std::to_string(engine_->fingertips()) + " fingertips, the device '" +
@@ -128,8 +126,6 @@ ServoLoop::ServoLoop(std::shared_ptr<device::Device> device, std::unique_ptr<Gra
   snap_.method = engine_->name();
   snap_.fingertips = engine_->fingertips();
   snap_.partCount = static_cast<int>(engine_->partCount());
-  const auto poses = engine_->poses();
-  for (int i = 0; i < snap_.partCount; ++i) snap_.poses[i] = poses[static_cast<std::size_t>(i)];
 }
 
 ServoLoop::~ServoLoop() { stop(); }
@@ -237,6 +233,7 @@ void ServoLoop::tick(double t, double dt) noexcept {
     switch (command.kind) {
       case ServoCommand::Kind::ResetGrasp:
         engine_->reset();
+        logMove(-1, {});
         events |= kGraspReset;
         break;
       case ServoCommand::Kind::SetPassivityController: passivityOn_ = command.on; break;
@@ -273,6 +270,7 @@ void ServoLoop::tick(double t, double dt) noexcept {
     held_ = snap_.sent;  // what the operator feels now; ramps down from here
     gain_ = 1;           // held_ already carries the current gain
     engine_->reset();    // FREE, every part at its initial pose
+    logMove(-1, {});
     snap_.graspedPart = -1;
     for (PassivityPort& p : ports_) p.reset();
   }
@@ -368,13 +366,37 @@ void ServoLoop::tick(double t, double dt) noexcept {
     for (int b = 0; b < 32; ++b)
       if (events & (1u << b)) ++snap_.eventTotals[b];
   }
-  const auto poses = engine_->poses();
-  for (int i = 0; i < snap_.partCount; ++i) snap_.poses[i] = poses[static_cast<std::size_t>(i)];
+  publishPoses();
   if (config_.allocationCounter) snap_.allocations = config_.allocationCounter() - allocationBase_;
   if ((ticks_ & 63) == 1) snap_.timing = timingSummary();  // every 64 ticks: the histograms cost a scan
   publish();
 }
 
 void ServoLoop::publish() noexcept { snapshot_.write(snap_); }
+
+void ServoLoop::logMove(int part, const grasp::PartPose& pose) noexcept {
+  snap_.moveLog[snap_.moveCount % ServoSnapshot::kMoveLog] = {part, pose};
+  ++snap_.moveCount;
+  if (part < 0) wasMovingCount_ = 0;  // a reset: nothing moves any more, nothing to put down
+}
+
+// The moving parts' poses this tick; a part that moved last tick and no longer does was put
+// down: where it stands goes to the log, once.
+void ServoLoop::publishPoses() noexcept {
+  const auto poses = engine_->poses();
+  const auto moving = engine_->moving();
+  for (int k = 0; k < wasMovingCount_; ++k) {
+    const int part = wasMoving_[k];
+    if (std::find(moving.begin(), moving.end(), part) == moving.end())
+      logMove(part, poses[static_cast<std::size_t>(part)]);
+  }
+  snap_.movingCount = 0;
+  for (const int part : moving) {
+    if (snap_.movingCount == ServoSnapshot::kMaxMoving) break;
+    snap_.moving[snap_.movingCount++] = {part, poses[static_cast<std::size_t>(part)]};
+  }
+  wasMovingCount_ = snap_.movingCount;
+  for (int k = 0; k < snap_.movingCount; ++k) wasMoving_[k] = snap_.moving[k].part;
+}
 
 }  // namespace hg::servo

@@ -214,6 +214,7 @@ void Session::restart(const std::vector<Placement>& placements) {
   loop_.reset();
   for (std::size_t i = 0; i < parts_.size(); ++i) parts_[i].initialPose = poses[i];
   reader_ = servo::SnapshotReader{};
+  resetTracker();
   loop_ = std::make_unique<servo::ServoLoop>(device_, makeEngine(scene), config_);
   loop_->start();
 }
@@ -379,6 +380,7 @@ void Session::start(double rate_hz, bool realtime) {
   config.realtime = realtime;
   device_ = device;
   config_ = config;
+  resetTracker();
   loop_ = std::make_unique<servo::ServoLoop>(device, makeEngine(scene), config);
   loop_->start();
 }
@@ -399,6 +401,13 @@ std::unique_ptr<servo::GraspEngine> Session::makeEngine(const grasp::ScenePtr& s
     return std::make_unique<servo::MultiFingerEngine>(scene, device_->spec().fingertips, params);
   }
   return std::make_unique<servo::TwoFingerEngine>(scene, parameters_);
+}
+
+void Session::resetTracker() {
+  std::vector<grasp::PartPose> poses;
+  poses.reserve(parts_.size());
+  for (const auto& part : parts_) poses.push_back(part.initialPose);
+  tracker_.reset(std::move(poses));
 }
 
 void Session::stop() noexcept {
@@ -429,7 +438,8 @@ SessionSnapshot Session::snapshot() {
   if (out.events & servo::kGraspReset) out.eventNames.emplace_back("grasp reset");
   out.fault = servo::toString(s.watchdog.fault);
   out.faults = s.watchdog.trips;
-  for (int i = 0; i < s.partCount; ++i) out.placements.push_back(toPlacement(s.poses[i]));
+  tracker_.update(s);  // a reader at the GUI's rate loses no put-down (64 between two reads)
+  for (const grasp::PartPose& pose : tracker_.poses()) out.placements.push_back(toPlacement(pose));
   const auto newtons = [](const Vec3& f) { return std::array<double, 3>{f.x(), f.y(), f.z()}; };
   out.forces_N = {newtons(s.sent.f_index), newtons(s.sent.f_thumb)};
   out.graspForce_N = s.sent.f_grasp;

@@ -20,6 +20,7 @@
 #include "hapticgrasp/geometry/part_model.hpp"
 #include "hapticgrasp/geometry/penetration.hpp"
 #include "hapticgrasp/grasp/grasp_parameters.hpp"
+#include "hapticgrasp/servo/pose_tracker.hpp"
 #include "hapticgrasp/servo/scripted_hand_device.hpp"
 #include "hapticgrasp/servo/servo_loop.hpp"
 
@@ -254,6 +255,8 @@ class Session {
   std::unique_ptr<servo::ServoLoop> loop_;
   std::unique_ptr<servo::ServoSnapshot> snap_ = std::make_unique<servo::ServoSnapshot>();
   servo::SnapshotReader reader_;
+  servo::PoseTracker tracker_;  // every part's pose, from the snapshots' moving parts and put-downs
+  void resetTracker();
 };
 
 }  // namespace hg::freecad

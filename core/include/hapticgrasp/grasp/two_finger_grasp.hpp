@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "hapticgrasp/geometry/penetration.hpp"
+#include "hapticgrasp/grasp/broad_phase.hpp"
 #include "hapticgrasp/grasp/force_laws.hpp"
 #include "hapticgrasp/grasp/grasp_frame.hpp"
 #include "hapticgrasp/grasp/grasp_parameters.hpp"
@@ -62,6 +63,7 @@ class TwoFingerGrasp {
   struct Fingertip {
     int part = -1;                 // part in contact, -1 none
     int queryPart = -1;            // part `query` was last used on (its warm start)
+    const ScenePart* queryModels = nullptr;  // and its models then (they may be swapped)
     geometry::QueryState query;
     RateFilter depthRate;          // d|p|/dt
     // Outside every part since the last release: only such a fingertip closes a grasp by
@@ -80,12 +82,15 @@ class TwoFingerGrasp {
   void hold(const HandSample& hand, GraspOutput& out) noexcept;
   void release(GraspOutput& out) noexcept;
   void setPose(int part, const PartPose& pose) noexcept;
+  geometry::Aabb worldBox(int part, const PartPose& pose) const noexcept;
+
+  static constexpr int kMaxNear = 64;  // parts queried per free fingertip and tick
 
   ScenePtr scene_;
   GraspParameters k_;
   // Per-part data, sized once.
   std::vector<PartPose> poses_;
-  std::vector<geometry::Aabb> boxes_;  // absolute boxes at poses_, inflated by boxMargin_m
+  BroadPhase boxes_;  // absolute boxes at poses_, inflated by boxMargin_m
 
   GraspState state_ = GraspState::Free;
   Fingertip tips_[2];
@@ -94,6 +99,7 @@ class TwoFingerGrasp {
   double pendingDt_ = 0;     // dt of skipped (invalid) ticks, added to the next valid one
   // GRASP / MANIPULATE.
   int held_ = -1;
+  const ScenePart* heldModels_ = nullptr;  // the models the grasp began with, kept until release
   GraspMemory memory_;
   Mat3 frame_ = Mat3::Identity();  // last good hand frame (eqs 16-18)
 };

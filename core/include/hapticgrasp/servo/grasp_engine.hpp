@@ -38,6 +38,9 @@ class GraspEngine {
   virtual void reset() noexcept = 0;                 // FREE, every part at its initial pose
   virtual grasp::GraspState state() const noexcept = 0;
   virtual std::span<const grasp::PartPose> poses() const noexcept = 0;
+  // The parts whose pose the last step() may have changed (held or carried): the only
+  // ones the servo publishes each tick. The others stand where they were put.
+  virtual std::span<const int> moving() const noexcept = 0;
 };
 
 // The first paper's method: index, thumb and wrist.
@@ -52,9 +55,11 @@ class TwoFingerEngine final : public GraspEngine {
   void reset() noexcept override;
   grasp::GraspState state() const noexcept override;
   std::span<const grasp::PartPose> poses() const noexcept override;
+  std::span<const int> moving() const noexcept override { return {&held_, held_ >= 0 ? 1u : 0u}; }
 
  private:
   std::unique_ptr<grasp::TwoFingerGrasp> grasp_;
+  int held_ = -1;  // the part in GRASP or MANIPULATE
 };
 
 // The resultant-force paper's method with 1–5 fingertips (HandSample::fingertip(k)).
@@ -69,6 +74,7 @@ class MultiFingerEngine final : public GraspEngine {
   void reset() noexcept override { scene_.reset(); }
   grasp::GraspState state() const noexcept override { return scene_.state(); }
   std::span<const grasp::PartPose> poses() const noexcept override { return scene_.poses(); }
+  std::span<const int> moving() const noexcept override { return scene_.carriedParts(); }
   const grasp::multi_finger::MultiFingerScene& scene() const noexcept { return scene_; }
 
  private:

@@ -95,9 +95,16 @@ struct EventRecord {
 // that have them (HandSample::fingertip(k) is port kExtraPort + k - 2).
 enum Port : int { kIndexPort = 0, kThumbPort = 1, kWristPort = 2, kExtraPort = 3, kPortCount = 6 };
 
+// A part and where it stands (servo snapshots carry the few that move, not every part).
+struct PartPlacement {
+  int part = -1;  // in a put-down log, -1: every part back at its initial pose (a reset)
+  grasp::PartPose pose;
+};
+
 struct ServoSnapshot {
-  static constexpr int kMaxParts = 64;
   static constexpr int kEventLog = 64;
+  static constexpr int kMaxMoving = 16;  // parts held or carried at once
+  static constexpr int kMoveLog = 64;
 
   std::uint64_t tick = 0;        // 1 for the first tick
   const char* method = "";       // GraspEngine::name()
@@ -124,8 +131,14 @@ struct ServoSnapshot {
   std::uint64_t eventCount = 0;
   EventRecord eventLog[kEventLog] = {};
   std::uint64_t eventTotals[32] = {};  // per event bit, raised since start
-  int partCount = 0;
-  grasp::PartPose poses[kMaxParts];
+  // Where the parts are, whatever the scene's size (PoseTracker rebuilds every part's pose
+  // from these): the parts moving this tick, and a log of the parts that stopped moving
+  // (put down, or a reset), record i of `moveCount` at moveLog[i % kMoveLog].
+  int partCount = 0;             // the scene's size
+  int movingCount = 0;
+  PartPlacement moving[kMaxMoving];
+  std::uint64_t moveCount = 0;
+  PartPlacement moveLog[kMoveLog];
   std::uint64_t tickEnd = 0;     // == tick (consistency check for readers)
 };
 
@@ -145,11 +158,11 @@ class SnapshotReader {
 class ServoLoop {
  public:
   // The first paper's two-finger method over `scene`. Throws std::invalid_argument for a
-  // null device or scene, a scene with more than ServoSnapshot::kMaxParts parts, or a bad
-  // config.
+  // null device or scene, or a bad config.
   ServoLoop(std::shared_ptr<device::Device> device, grasp::ScenePtr scene,
             const grasp::GraspParameters& parameters = {}, const ServoConfig& config = {});
-  // Any method; also throws when the device reads fewer fingertips than the method needs.
+  // Any method, any number of parts; also throws when the device reads fewer fingertips
+  // than the method needs.
   ServoLoop(std::shared_ptr<device::Device> device, std::unique_ptr<GraspEngine> engine,
             const ServoConfig& config = {});
   ~ServoLoop();  // stop()s
@@ -184,6 +197,8 @@ class ServoLoop {
   void run() noexcept;
   void tick(double now, double dt) noexcept;
   void publish() noexcept;
+  void logMove(int part, const grasp::PartPose& pose) noexcept;
+  void publishPoses() noexcept;
 
   std::shared_ptr<device::Device> device_;
   std::unique_ptr<GraspEngine> engine_;
@@ -219,6 +234,8 @@ class ServoLoop {
   long allocationBase_ = 0;
   bool passivityOn_ = false;
   TimingSummary final_;              // written by the thread before it exits
+  int wasMoving_[ServoSnapshot::kMaxMoving] = {};  // the parts moving at the previous tick
+  int wasMovingCount_ = 0;
 };
 
 }  // namespace hg::servo

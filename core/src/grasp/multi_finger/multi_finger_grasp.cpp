@@ -57,6 +57,17 @@ MultiFingerGrasp::MultiFingerGrasp(std::shared_ptr<const geometry::PenetrationMo
   reset(PartPose{});
 }
 
+void MultiFingerGrasp::rebind(std::shared_ptr<const geometry::PenetrationModel> model,
+                              const geometry::MassProperties& mass) noexcept {
+  model_ = std::move(model);
+  gods_ = makeGods(*model_, godParams(params_));
+  body_ = RigidBody(mass.mass_kg, mass.centre_m, mass.inertia_kgm2);
+  radiusOfGyration2_ = std::max(1e-8, mass.inertia_kgm2.trace() / (2 * mass.mass_kg));
+  distributor_.reset();
+  forceOnly_.reset();
+  reset(PartPose{});
+}
+
 void MultiFingerGrasp::reset(const PartPose& pose) noexcept {
   for (GodObject& g : gods_) g.reset();
   body_.reset(pose);

@@ -20,25 +20,39 @@ MultiFingerScene::MultiFingerScene(ScenePtr scene, int fingers, const MultiFinge
     : scene_(std::move(scene)), fingers_(fingers), params_(params) {
   if (!scene_) throw std::invalid_argument("multi-finger scene: no scene");
   if (fingers < 1 || fingers > kMaxFingers) throw std::invalid_argument("multi-finger scene: 1 to 5 fingers");
-  parts_.reserve(scene_->size());
-  for (const ScenePart& sp : scene_->parts()) {
-    Part p;
-    p.method = std::make_unique<MultiFingerGrasp>(sp.penetration, sp.mass, fingers, params_.grasp);
-    for (int i = 0; i < fingers; ++i) p.resting.emplace_back(*sp.penetration, restingParams(params_.grasp));
-    p.weight_N = sp.mass.mass_kg * params_.grasp.gravity.norm();
-    parts_.push_back(std::move(p));
-  }
   poses_.resize(scene_->size());
+  std::vector<geometry::Aabb> boxes(scene_->size());
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    poses_[i] = scene_->part(i).initialPose;
+    boxes[i] = worldBox(i);
+  }
+  boxes_ = BroadPhase(boxes);
+  if (scene_->size() > 0) {  // the pool's states, bound to part 0 until needed elsewhere
+    const ScenePart& first = scene_->part(0);
+    for (Bound& b : pool_) {
+      b.method = std::make_unique<MultiFingerGrasp>(first.penetration, first.mass, fingers, params_.grasp);
+      b.resting.assign(static_cast<std::size_t>(fingers), GodObject(*first.penetration, restingParams(params_.grasp)));
+    }
+  }
   reset();
 }
 
+geometry::Aabb MultiFingerScene::worldBox(std::size_t part) const noexcept {
+  return poses_[part].absoluteBounds(scene_->part(part).model->bounds()).inflated(params_.boxMargin_m);
+}
+
 void MultiFingerScene::reset() noexcept {
-  for (std::size_t i = 0; i < parts_.size(); ++i) {
+  for (std::size_t i = 0; i < poses_.size(); ++i) {
     poses_[i] = scene_->part(i).initialPose;
-    leave(i);
-    parts_[i].carried = false;
+    boxes_.update(i, worldBox(i));
+  }
+  for (Bound& b : pool_) {
+    if (b.part >= 0) leave(b);
+    b.part = -1;
+    b.carried = false;
   }
   touching_.fill(false);
+  carriedCount_ = 0;
   out_ = MultiFingerSceneOutput{};
   out_.fingers = fingers_;
   out_.part.fill(-1);
@@ -46,23 +60,42 @@ void MultiFingerScene::reset() noexcept {
   out_.poses = poses_;
 }
 
+bool MultiFingerScene::carried(int part) const noexcept {
+  for (const Bound& b : pool_)
+    if (b.part == part && b.carried) return true;
+  return false;
+}
+
 const MultiFingerSceneOutput& MultiFingerScene::step(std::span<const Vec3> tips, double dt) noexcept {
   out_.events = 0;
   out_.force.fill(Vec3::Zero());
   out_.part.fill(-1);
   out_.queried = 0;
+  out_.unbound = 0;
   bool finite = static_cast<int>(tips.size()) == fingers_ && std::isfinite(dt) && dt >= 0;
   for (const Vec3& p : tips) finite = finite && p.allFinite();
   out_.validSample = finite;
   if (!finite) return out_;
 
-  for (std::size_t i = 0; i < parts_.size(); ++i) {
-    if (parts_[i].carried) {
-      stepCarried(i, tips, dt);
-    } else if (near(i, tips)) {
-      stepResting(i, tips);
-    } else if (parts_[i].contacts > 0) {
-      leave(i);
+  std::array<int, kPool> parts;
+  const int n = nearParts(tips, parts);
+  for (Bound& b : pool_) {  // parts no fingertip is near any more: free their state
+    if (b.part < 0 || b.carried || std::find(parts.begin(), parts.begin() + n, b.part) != parts.begin() + n) continue;
+    leave(b);
+    b.part = -1;
+  }
+  for (int k = 0; k < n; ++k) {  // in part order, as a scan of every part would go
+    Bound* b = boundTo(parts[static_cast<std::size_t>(k)]);
+    if (!b) b = bind(parts[static_cast<std::size_t>(k)]);
+    if (!b) {
+      ++out_.unbound;
+      continue;
+    }
+    if (b->carried) {
+      stepCarried(*b, tips, dt);
+    } else {
+      if (b->models != &scene_->part(static_cast<std::size_t>(b->part))) rebind(*b, b->part);  // newer models
+      stepResting(*b, tips);
     }
   }
   std::uint32_t events = out_.events;
@@ -71,72 +104,112 @@ const MultiFingerSceneOutput& MultiFingerScene::step(std::span<const Vec3> tips,
   return out_;
 }
 
-bool MultiFingerScene::near(std::size_t part, std::span<const Vec3> tips) const noexcept {
-  const geometry::Aabb box =
-      poses_[part].absoluteBounds(scene_->part(part).model->bounds()).inflated(params_.boxMargin_m);
-  for (const Vec3& p : tips)
-    if (box.contains(p)) return true;
-  return false;
+int MultiFingerScene::nearParts(std::span<const Vec3> tips, std::array<int, kPool>& parts) noexcept {
+  int n = 0;
+  const auto add = [&](int part) {
+    if (std::find(parts.begin(), parts.begin() + n, part) != parts.begin() + n) return;
+    if (n < kPool) parts[static_cast<std::size_t>(n++)] = part;
+    else ++out_.unbound;
+  };
+  for (const Bound& b : pool_)
+    if (b.part >= 0 && b.carried) add(b.part);
+  int hits[kPool];
+  for (const Vec3& x : tips) {
+    const std::size_t found = std::min<std::size_t>(boxes_.query(x, hits), kPool);
+    for (std::size_t h = 0; h < found; ++h) add(hits[h]);
+  }
+  std::sort(parts.begin(), parts.begin() + n);
+  return n;
 }
 
-void MultiFingerScene::stepResting(std::size_t part, std::span<const Vec3> tips) noexcept {
-  Part& p = parts_[part];
-  const PartPose& pose = poses_[part];
+MultiFingerScene::Bound* MultiFingerScene::boundTo(int part) noexcept {
+  for (Bound& b : pool_)
+    if (b.part == part) return &b;
+  return nullptr;
+}
+
+MultiFingerScene::Bound* MultiFingerScene::bind(int part) noexcept {
+  for (Bound& b : pool_) {
+    if (b.part >= 0) continue;
+    rebind(b, part);
+    return &b;
+  }
+  return nullptr;
+}
+
+void MultiFingerScene::rebind(Bound& b, int part) noexcept {
+  const ScenePart& models = scene_->part(static_cast<std::size_t>(part));
+  b.part = part;
+  b.models = &models;
+  b.method->rebind(models.penetration, models.mass);
+  for (GodObject& g : b.resting) g = GodObject(*models.penetration, restingParams(params_.grasp));
+  b.weight_N = models.mass.mass_kg * params_.grasp.gravity.norm();
+  b.carried = false;
+  b.contacts = 0;
+}
+
+void MultiFingerScene::stepResting(Bound& b, std::span<const Vec3> tips) noexcept {
+  const PartPose& pose = poses_[static_cast<std::size_t>(b.part)];
   ++out_.queried;
   int contacts = 0;
   double pressing = 0;            // Σ |f_n,i|
   Vec3 net = Vec3::Zero();        // Σ f_n,i n_i, part frame
   for (int i = 0; i < fingers_; ++i) {
-    const GodObjectContact& c = p.resting[static_cast<std::size_t>(i)].update(pose.toObject(tips[i]));
+    const GodObjectContact& c = b.resting[static_cast<std::size_t>(i)].update(pose.toObject(tips[i]));
     if (!c.inContact) continue;
     ++contacts;
     out_.force[i] += pose.vectorToAbsolute(c.force);
-    if (out_.part[i] < 0) out_.part[i] = static_cast<int>(part);
+    if (out_.part[i] < 0) out_.part[i] = b.part;
     pressing += c.normalForce;
     net += c.normalForce * c.normal;
   }
-  p.contacts = contacts;
+  b.contacts = contacts;
   const double squeeze = pressing - net.norm();
-  if (contacts >= 2 && squeeze > 0 && params_.grasp.friction * squeeze >= p.weight_N) {
+  if (contacts >= 2 && squeeze > 0 && params_.grasp.friction * squeeze >= b.weight_N) {
     // The fingers can carry it: from the next tick it is the paper's free body, starting
     // at rest where it lies.
-    p.carried = true;
-    p.method->reset(pose);
+    b.carried = true;
+    b.method->reset(pose);
     out_.events |= kLift;
   }
 }
 
-void MultiFingerScene::stepCarried(std::size_t part, std::span<const Vec3> tips, double dt) noexcept {
-  Part& p = parts_[part];
+void MultiFingerScene::stepCarried(Bound& b, std::span<const Vec3> tips, double dt) noexcept {
   ++out_.queried;
-  const MultiFingerOutput& o = dt > 0 ? p.method->step(tips, Vec3::Zero(), Vec3::Zero(), dt) : p.method->output();
+  const MultiFingerOutput& o = dt > 0 ? b.method->step(tips, Vec3::Zero(), Vec3::Zero(), dt) : b.method->output();
   for (int i = 0; i < fingers_; ++i) {
     const FingerOutput& f = o.fingers[static_cast<std::size_t>(i)];
     if (!f.contact) continue;
     out_.force[i] += f.force;
-    if (out_.part[i] < 0) out_.part[i] = static_cast<int>(part);
+    if (out_.part[i] < 0) out_.part[i] = b.part;
   }
-  p.contacts = o.contacts;
+  b.contacts = o.contacts;
+  const auto part = static_cast<std::size_t>(b.part);
   poses_[part] = o.body;
   if (o.contacts < 2) {  // put down: it rests where the fingers left it
-    p.carried = false;
-    leave(part);
+    b.carried = false;
+    leave(b);
+    boxes_.update(part, worldBox(part));
     out_.events |= kRelease;
   }
 }
 
-void MultiFingerScene::leave(std::size_t part) noexcept {
-  for (GodObject& g : parts_[part].resting) g.reset();
-  parts_[part].contacts = 0;
+void MultiFingerScene::leave(Bound& b) noexcept {
+  for (GodObject& g : b.resting) g.reset();
+  b.contacts = 0;
 }
 
 void MultiFingerScene::settleState(std::uint32_t& events) noexcept {
   const GraspState before = out_.state;
-  int carried = -1, squeezed = -1;
-  for (std::size_t i = 0; i < parts_.size(); ++i) {
-    if (parts_[i].carried && carried < 0) carried = static_cast<int>(i);
-    if (!parts_[i].carried && parts_[i].contacts >= 2 && squeezed < 0) squeezed = static_cast<int>(i);
+  int carried = -1, squeezed = -1;  // the lowest-numbered of each, as a scan of every part finds
+  carriedCount_ = 0;
+  for (const Bound& b : pool_) {
+    if (b.part < 0) continue;
+    if (b.carried) carriedList_[carriedCount_++] = b.part;
+    if (b.carried && (carried < 0 || b.part < carried)) carried = b.part;
+    if (!b.carried && b.contacts >= 2 && (squeezed < 0 || b.part < squeezed)) squeezed = b.part;
   }
+  std::sort(carriedList_.begin(), carriedList_.begin() + static_cast<std::ptrdiff_t>(carriedCount_));
   std::array<bool, kMaxFingers> touching{};
   bool any = false;
   for (int i = 0; i < fingers_; ++i) any |= touching[i] = out_.part[i] >= 0;

@@ -79,6 +79,10 @@ class MultiFingerGrasp {
                    int fingers, const MultiFingerParams& params = {});
 
   void reset(const PartPose& pose) noexcept;
+  // Another part, or the same part's newer models (a scene keeps a few of these for the
+  // parts the fingers are at): the same as a new MultiFingerGrasp, without allocating.
+  // The mass must be positive (the Scene checked it).
+  void rebind(std::shared_ptr<const geometry::PenetrationModel> model, const geometry::MassProperties& mass) noexcept;
   // Fingertips in the world frame (count() of them); external force and torque on the part
   // (about its centre of gravity) besides gravity.
   const MultiFingerOutput& step(std::span<const Vec3> fingertips, const Vec3& externalForce,

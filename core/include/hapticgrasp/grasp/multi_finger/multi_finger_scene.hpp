@@ -21,13 +21,21 @@
 // alone), GRASP (two or more touch one resting part), MANIPULATE (a part is carried). The
 // same event bits: index and thumb contact/detach, grasp, lift, release.
 //
-// step() never allocates (every part's models are built in the constructor) and never
-// throws; non-finite fingertips or dt leave everything as it was and ask for no force.
+// Scale: the parts whose box holds a fingertip come from the scene's broad phase
+// (broad_phase.hpp), so a tick costs the same among ten parts or ten thousand. The
+// per-part state of the method (god objects, the 6-DOF body) exists only for the parts the
+// fingers are at: a pool of kPool states, bound to a part when a fingertip comes near it
+// and freed when none is. A part whose models the scene swapped (coarse, then exact) is
+// rebound while it rests; a carried part keeps the models it was lifted with until put down.
+//
+// step() never allocates (the pool is made in the constructor) and never throws;
+// non-finite fingertips or dt leave everything as it was and ask for no force.
 #include <array>
 #include <memory>
 #include <span>
 #include <vector>
 
+#include "hapticgrasp/grasp/broad_phase.hpp"
 #include "hapticgrasp/grasp/grasp_state.hpp"
 #include "hapticgrasp/grasp/multi_finger/god_object.hpp"
 #include "hapticgrasp/grasp/multi_finger/multi_finger_grasp.hpp"
@@ -49,6 +57,7 @@ struct MultiFingerSceneOutput {
   std::array<int, kMaxFingers> part{};       // the part each fingertip touches, or -1
   int graspedPart = -1;                      // the carried part (MANIPULATE), or the one squeezed (GRASP)
   int queried = 0;                           // parts whose surfaces were queried this tick
+  int unbound = 0;                           // parts near a fingertip left out: the pool was full
   std::span<const PartPose> poses;           // every part's pose; valid until the next step()
 };
 
@@ -64,10 +73,17 @@ class MultiFingerScene {
   int fingers() const noexcept { return fingers_; }
   GraspState state() const noexcept { return out_.state; }
   std::span<const PartPose> poses() const noexcept { return poses_; }
-  bool carried(int part) const noexcept { return parts_[static_cast<std::size_t>(part)].carried; }
+  bool carried(int part) const noexcept;
+  // The parts carried after the last step(), ascending.
+  std::span<const int> carriedParts() const noexcept { return {carriedList_.data(), carriedCount_}; }
+
+  static constexpr int kPool = 16;  // parts the fingers may be at at once
 
  private:
-  struct Part {
+  // The method's state for one part the fingers are at.
+  struct Bound {
+    int part = -1;                             // -1: free
+    const ScenePart* models = nullptr;         // what it was bound to
     std::unique_ptr<MultiFingerGrasp> method;  // stepped while carried
     std::vector<GodObject> resting;            // one per finger, on the resting part
     double weight_N = 0;
@@ -75,18 +91,26 @@ class MultiFingerScene {
     int contacts = 0;                          // fingers touching it last tick
   };
 
-  bool near(std::size_t part, std::span<const Vec3> tips) const noexcept;
-  void stepResting(std::size_t part, std::span<const Vec3> tips) noexcept;
-  void stepCarried(std::size_t part, std::span<const Vec3> tips, double dt) noexcept;
-  void leave(std::size_t part) noexcept;
+  // The parts to step this tick, ascending: the carried ones and those near a fingertip.
+  int nearParts(std::span<const Vec3> tips, std::array<int, kPool>& parts) noexcept;
+  Bound* boundTo(int part) noexcept;
+  Bound* bind(int part) noexcept;
+  void rebind(Bound& b, int part) noexcept;
+  void stepResting(Bound& b, std::span<const Vec3> tips) noexcept;
+  void stepCarried(Bound& b, std::span<const Vec3> tips, double dt) noexcept;
+  void leave(Bound& b) noexcept;
   void settleState(std::uint32_t& events) noexcept;
+  geometry::Aabb worldBox(std::size_t part) const noexcept;
 
   ScenePtr scene_;
   int fingers_;
   MultiFingerSceneParams params_;
-  std::vector<Part> parts_;
+  std::array<Bound, kPool> pool_;
   std::vector<PartPose> poses_;
+  BroadPhase boxes_;  // resting parts' world boxes, inflated by boxMargin_m
   std::array<bool, kMaxFingers> touching_{};
+  std::array<int, kPool> carriedList_{};
+  std::size_t carriedCount_ = 0;
   MultiFingerSceneOutput out_;
 };
 
