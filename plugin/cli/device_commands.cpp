@@ -45,4 +45,22 @@ int benchServo(servo::ServoBenchOptions options, bool json) {
   return 0;
 }
 
+int benchScene(servo::SceneBenchOptions options, bool json) {
+  options.realtime = true;
+  options.allocationCounter = &servo::threadAllocations;
+  const servo::SceneBenchResult r = servo::runSceneBench(options);
+  if (json) {
+    std::cout << servo::toJson(r) << std::endl;
+    return 0;
+  }
+  std::printf("scene: %zu parts, %zu distinct models (%zu failed); file read in %.3f s\n", r.parts, r.uniqueModels,
+              r.failedModels, r.read_s);
+  std::printf("  servo running %.3f s after Start; %s exact and touched at %.3f s; every model built at %.3f s\n",
+              r.start_s, r.target.c_str(), r.first_touch_s, r.all_built_s);
+  std::printf("  compute us  p50 %.2f  p99 %.2f  max %.2f; period error p99 %.2f us; %.1f Hz; %s\n", r.compute.p50_us,
+              r.compute.p99_us, r.compute.max_us, r.periodError.p99_us, r.achieved_hz, r.scheduler.c_str());
+  std::printf("  memory %.1f MB, allocations in the loop %ld\n", r.memory_bytes / 1e6, r.allocations_in_loop);
+  return 0;
+}
+
 }  // namespace hg::cli

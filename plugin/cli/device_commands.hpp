@@ -2,6 +2,7 @@
 // The device and servo verbs of the hapticgrasp command.
 #include <string>
 
+#include "hapticgrasp/servo/scene_bench.hpp"
 #include "hapticgrasp/servo/servo_bench.hpp"
 
 namespace hg::cli {
@@ -12,5 +13,7 @@ int listDevices();
 // simulated master arm (device "arm") or a scripted hand ("scripted"), with the two-finger
 // or the multi-finger method. The allocation counter is set here.
 int benchServo(servo::ServoBenchOptions options, bool json);
+// hapticgrasp bench scene: what a scene's size costs (scene_bench.hpp).
+int benchScene(servo::SceneBenchOptions options, bool json);
 
 }  // namespace hg::cli

@@ -177,6 +177,20 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 5));
   servoBench->add_flag("--json", json, "Print JSON");
 
+  CLI::App* sceneBench = bench->add_subcommand(
+      "scene", "A scene of every solid of a file, repeated: start, first touch, background build, servo cost");
+  servo::SceneBenchOptions sceneOptions;
+  sceneBench->add_option("--part", sceneOptions.part, "A .step/.brep file (an assembly) or a sample part")->required();
+  sceneBench->add_option("--copies", sceneOptions.copies, "The file's solids this many times side by side")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
+  sceneBench->add_option("--seconds", sceneOptions.seconds, "Servo time at least (longer until every model is built)")
+      ->capture_default_str();
+  sceneBench->add_option("--rate", sceneOptions.rate_hz, "Servo rate, Hz (50-10000)")->capture_default_str();
+  sceneBench->add_option("--workers", sceneOptions.workers, "Threads building models")->capture_default_str()->check(
+      CLI::Range(1, 64));
+  sceneBench->add_flag("--json", json, "Print JSON");
+
   CLI::App* devices = app.add_subcommand("devices", "List HID devices and which back end or layout matches each");
 
   CLI::App* experiment = app.add_subcommand("experiment", "Reproduce the papers' experiments");
@@ -208,6 +222,7 @@ int main(int argc, char** argv) {
     if (graspCylinderCmd->parsed()) return graspCylinder(rate_hz, json);
     if (shakeCmd->parsed()) return shake(json, shakePlot);
     if (servoBench->parsed()) return cli::benchServo(servoOptions, json);
+    if (sceneBench->parsed()) return cli::benchScene(sceneOptions, json);
     if (devices->parsed()) return cli::listDevices();
   } catch (const std::exception& e) {  // GeometryError, HidError, invalid_argument: one line
     std::cerr << "hapticgrasp: " << e.what() << std::endl;

@@ -133,6 +133,59 @@ TEST_P(MultiFingerSceneTest, PinchLiftCarryPutDown) {
 
 INSTANTIATE_TEST_SUITE_P(Fingers, MultiFingerSceneTest, ::testing::Values(3, 4, 5));
 
+// A scene of 1,000 cylinders 0.2 m apart: the hand pinches, lifts and carries number 537
+// as it would the only part; only the parts near a fingertip cost anything, and the rest
+// never move.
+TEST(MultiFingerScene, OnePartOfAThousandIsCarriedAsIfAlone) {
+  const grasp::ScenePart one = scene()->part(0);
+  std::vector<grasp::ScenePart> parts;
+  for (int i = 0; i < 1000; ++i) {
+    grasp::ScenePart p = one;
+    p.initialPose.position = Vec3(0.2 * (i % 40), 0.2 * (i / 40), 0);
+    parts.push_back(p);
+  }
+  const int target = 537;
+  const Vec3 at = parts[target].initialPose.position;
+  MultiFingerScene method(std::make_shared<const grasp::Scene>(std::move(parts)), 3);
+  const grasp::HandScript script = pinchLiftCarry(3);
+  std::uint32_t seen = 0;
+  int maxQueried = 0;
+  for (double t = 0; t < 2.2; t += 1e-3) {
+    auto tips = tipsAt(script.at(t), 3);
+    for (Vec3& x : tips) x += at;
+    const auto& o = method.step(tips, 1e-3);
+    seen |= o.events;
+    maxQueried = std::max(maxQueried, o.queried);
+    EXPECT_EQ(o.unbound, 0);
+    if (t > 1.4 && t < 1.6) {
+      ASSERT_EQ(o.state, GraspState::Manipulate) << t;
+      ASSERT_EQ(o.graspedPart, target);
+      ASSERT_EQ(method.carriedParts().size(), 1u);
+      EXPECT_EQ(method.carriedParts()[0], target);
+    }
+  }
+  EXPECT_TRUE(seen & grasp::kLift);
+  EXPECT_TRUE(seen & grasp::kRelease);
+  EXPECT_EQ(maxQueried, 1);
+  EXPECT_NEAR(method.poses()[target].position.x() - at.x(), kCarry, 0.004);
+  EXPECT_NEAR(method.poses()[target].position.z() - at.z(), kLift, 0.006);
+  for (int i = 0; i < 1000; ++i)
+    if (i != target) ASSERT_EQ(method.poses()[static_cast<std::size_t>(i)].position.z(), 0) << i;
+}
+
+// More parts round one fingertip than the pool holds: the nearest kPool are stepped and
+// the rest counted, never silently dropped.
+TEST(MultiFingerScene, SaysWhenMorePartsAreNearThanItsPoolHolds) {
+  const grasp::ScenePart one = scene()->part(0);
+  std::vector<grasp::ScenePart> parts(MultiFingerScene::kPool + 4, one);
+  MultiFingerScene method(std::make_shared<const grasp::Scene>(std::move(parts)), 1);
+  const std::vector<Vec3> tip{Vec3(kRadius - 0.001, 0, 0)};
+  const auto& o = method.step(tip, 1e-3);
+  EXPECT_EQ(o.unbound, 4);
+  EXPECT_EQ(o.queried, MultiFingerScene::kPool);
+  EXPECT_GE(o.part[0], 0);
+}
+
 TEST(MultiFingerScene, TooWeakAPinchDoesNotLift) {
   // Two fingers just touching (0.2 mm in: 0.16 N each, μ·squeeze 0.32 N < 1.96 N): GRASP, never carried.
   MultiFingerScene method(scene(), 2);

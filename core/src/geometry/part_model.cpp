@@ -316,27 +316,30 @@ PartModelPtr PartModel::fromBrepText(std::string_view text, LengthUnit unit, std
   return load(shape, unit, std::move(name), options, secondsSince(start), start);
 }
 
-PartModelPtr PartModel::fromFile(const std::filesystem::path& path, LengthUnit unit, const LoadOptions& options) {
-  const Clock::time_point start = Clock::now();
+TopoDS_Shape PartModel::readFile(const std::filesystem::path& path, LengthUnit& unit) {
   if (!std::filesystem::is_regular_file(path)) throw GeometryError("no such file: " + path.string());
   if (std::filesystem::file_size(path) == 0) throw GeometryError("empty file: " + path.string());
   const std::string ext = lowerExtension(path);
-  TopoDS_Shape shape;
   try {
     if (ext == ".step" || ext == ".stp") {
-      shape = readStep(path);
       unit = LengthUnit::Millimetre;  // OCCT's STEP reader converts every file to mm
-    } else if (ext == ".brep" || ext == ".brp") {
+      return readStep(path);
+    }
+    if (ext == ".brep" || ext == ".brp") {
       std::ifstream in(path, std::ios::binary);
       std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
       if (!in && !in.eof()) throw GeometryError("could not read " + path.string());
-      shape = readBrep(std::move(text), "BREP file " + path.string());
-    } else {
-      throw GeometryError("unknown part file type '" + ext + "' (use .brep or .step): " + path.string());
+      return readBrep(std::move(text), "BREP file " + path.string());
     }
   } catch (const Standard_Failure& e) {
     throw GeometryError("could not read " + path.string() + ": " + e.GetMessageString());
   }
+  throw GeometryError("unknown part file type '" + ext + "' (use .brep or .step): " + path.string());
+}
+
+PartModelPtr PartModel::fromFile(const std::filesystem::path& path, LengthUnit unit, const LoadOptions& options) {
+  const Clock::time_point start = Clock::now();
+  const TopoDS_Shape shape = readFile(path, unit);
   return load(shape, unit, path.stem().string(), options, secondsSince(start), start);
 }
 

@@ -11,6 +11,7 @@ TwoFingerGrasp::TwoFingerGrasp(ScenePtr scene, const GraspParameters& parameters
   if (!scene_) throw std::invalid_argument("TwoFingerGrasp needs a scene");
   k_.validate();
   poses_.resize(scene_->size());
+  swaps_ = ModelSwaps(*scene_);
   std::vector<geometry::Aabb> boxes(scene_->size());
   for (std::size_t i = 0; i < boxes.size(); ++i) boxes[i] = worldBox(static_cast<int>(i), scene_->part(i).initialPose);
   boxes_ = BroadPhase(boxes);
@@ -30,7 +31,7 @@ void TwoFingerGrasp::reset() noexcept {
 }
 
 geometry::Aabb TwoFingerGrasp::worldBox(int part, const PartPose& pose) const noexcept {
-  return pose.absoluteBounds(scene_->part(static_cast<std::size_t>(part)).model->bounds()).inflated(k_.boxMargin_m);
+  return pose.absoluteBounds(scene_->part(static_cast<std::size_t>(part)).bounds).inflated(k_.boxMargin_m);
 }
 
 void TwoFingerGrasp::setPose(int part, const PartPose& pose) noexcept {
@@ -38,7 +39,17 @@ void TwoFingerGrasp::setPose(int part, const PartPose& pose) noexcept {
   boxes_.update(static_cast<std::size_t>(part), worldBox(part, pose));
 }
 
+void TwoFingerGrasp::refitPublished() noexcept {
+  swaps_.follow(*scene_, [this](int part) {
+    if (part == held_) return;  // the held part's box: at its release
+    // A box that shrank only costs a query now and then: refit where it grew.
+    const geometry::Aabb box = worldBox(part, poses_[static_cast<std::size_t>(part)]);
+    if (!geometry::contains(boxes_.box(static_cast<std::size_t>(part)), box)) boxes_.update(static_cast<std::size_t>(part), box);
+  });
+}
+
 GraspOutput TwoFingerGrasp::step(const HandSample& hand, double dt) noexcept {
+  refitPublished();
   GraspOutput out;
   out.state = state_;
   out.poses = poses_;

@@ -33,4 +33,9 @@ struct Aabb {
   }
 };
 
+// Whether `inner` lies within `outer` (an empty inner lies anywhere).
+inline bool contains(const Aabb& outer, const Aabb& inner) {
+  return inner.empty() || ((inner.min.array() >= outer.min.array()).all() && (inner.max.array() <= outer.max.array()).all());
+}
+
 }  // namespace hg::geometry

@@ -59,6 +59,9 @@ class PartModel {
   // A .brep/.brp or .step/.stp file. STEP files carry their own unit: OCCT converts them to
   // millimetres and `unit` is ignored.
   static PartModelPtr fromFile(const std::filesystem::path& path, LengthUnit unit, const LoadOptions& options = {});
+  // The shape of a .brep or .step file, unchecked (a scene's assembly, split into parts by
+  // the caller); `unit` becomes the file's (millimetres for STEP). Throws GeometryError.
+  static TopoDS_Shape readFile(const std::filesystem::path& path, LengthUnit& unit);
   // Every factory throws GeometryError, with one line naming the problem, for a shape that
   // cannot be used: empty, unreadable, not a solid, or without a closed shell. A part that
   // loads may carry warnings() about what was repaired or found.

@@ -23,9 +23,10 @@
 namespace hg::grasp {
 
 struct ScenePart {
-  geometry::PartModelPtr model;              // surfaces, bounds (object frame, metres)
+  geometry::PartModelPtr model;              // surfaces (object frame, metres); none for a coarse stand-in
   geometry::PenetrationModelPtr penetration; // P_o of eqs 4-5; must be real-time safe
   geometry::MassProperties mass;             // M_o and x_g^o of eqs 29-30
+  geometry::Aabb bounds;                     // object frame (the Scene fills it from the model if empty)
   PartPose initialPose;                      // where the part rests before anyone moves it
   bool coarse = false;                       // a stand-in until the part's own models are built
 };
@@ -34,6 +35,11 @@ struct ScenePart {
 // (analytic for a recognised primitive, exact otherwise).
 ScenePart makeScenePart(geometry::PartModelPtr model, const geometry::MassSpec& mass, const PartPose& pose,
                         geometry::Backend backend = geometry::Backend::Auto);
+
+// The stand-in a part answers with until its own models are built: its bounding box
+// (object frame, from the shape, no model needed) in closed form, with the box's mass
+// properties for `mass`. Built in nanoseconds.
+ScenePart makeCoarseScenePart(const geometry::Aabb& bounds, const geometry::MassSpec& mass, const PartPose& pose);
 
 class Scene {
  public:
@@ -53,6 +59,11 @@ class Scene {
   const ScenePart& publish(std::size_t i, ScenePart models) const;
   // How many publish() calls have been made (a cheap "anything new?" for readers).
   std::uint64_t publications() const { return publications_.load(std::memory_order_acquire); }
+  // The part the k-th publication (0-based) was for, or -1 once the log has wrapped past
+  // it (kPublicationLog later ones were made): the reader must then look at every part.
+  // The servo thread refits a part's box from this, without a lock.
+  int publishedPart(std::uint64_t k) const;
+  static constexpr std::uint64_t kPublicationLog = 4096;
 
  private:
   std::size_t size_ = 0;
@@ -60,6 +71,7 @@ class Scene {
   mutable std::mutex mutex_;  // guards owned_ (never taken by the servo thread)
   mutable std::vector<std::unique_ptr<const ScenePart>> owned_;
   mutable std::atomic<std::uint64_t> publications_{0};
+  mutable std::unique_ptr<std::atomic<int>[]> publishedLog_ = std::make_unique<std::atomic<int>[]>(kPublicationLog);
 };
 
 using ScenePtr = std::shared_ptr<const Scene>;

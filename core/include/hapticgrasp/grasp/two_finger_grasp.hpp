@@ -14,6 +14,7 @@
 #include "hapticgrasp/grasp/grasp_parameters.hpp"
 #include "hapticgrasp/grasp/grasp_state.hpp"
 #include "hapticgrasp/grasp/hand_sample.hpp"
+#include "hapticgrasp/grasp/model_swaps.hpp"
 #include "hapticgrasp/grasp/part_pose.hpp"
 #include "hapticgrasp/grasp/rate_filter.hpp"
 #include "hapticgrasp/grasp/scene.hpp"
@@ -83,6 +84,8 @@ class TwoFingerGrasp {
   void release(GraspOutput& out) noexcept;
   void setPose(int part, const PartPose& pose) noexcept;
   geometry::Aabb worldBox(int part, const PartPose& pose) const noexcept;
+  // Boxes of parts whose models the scene swapped since the last tick (their bounds may differ).
+  void refitPublished() noexcept;
 
   static constexpr int kMaxNear = 64;  // parts queried per free fingertip and tick
 
@@ -91,6 +94,7 @@ class TwoFingerGrasp {
   // Per-part data, sized once.
   std::vector<PartPose> poses_;
   BroadPhase boxes_;  // absolute boxes at poses_, inflated by boxMargin_m
+  ModelSwaps swaps_;  // the scene's model swaps the boxes follow
 
   GraspState state_ = GraspState::Free;
   Fingertip tips_[2];

@@ -21,6 +21,7 @@ MultiFingerScene::MultiFingerScene(ScenePtr scene, int fingers, const MultiFinge
   if (!scene_) throw std::invalid_argument("multi-finger scene: no scene");
   if (fingers < 1 || fingers > kMaxFingers) throw std::invalid_argument("multi-finger scene: 1 to 5 fingers");
   poses_.resize(scene_->size());
+  swaps_ = ModelSwaps(*scene_);
   std::vector<geometry::Aabb> boxes(scene_->size());
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     poses_[i] = scene_->part(i).initialPose;
@@ -38,7 +39,7 @@ MultiFingerScene::MultiFingerScene(ScenePtr scene, int fingers, const MultiFinge
 }
 
 geometry::Aabb MultiFingerScene::worldBox(std::size_t part) const noexcept {
-  return poses_[part].absoluteBounds(scene_->part(part).model->bounds()).inflated(params_.boxMargin_m);
+  return poses_[part].absoluteBounds(scene_->part(part).bounds).inflated(params_.boxMargin_m);
 }
 
 void MultiFingerScene::reset() noexcept {
@@ -77,6 +78,7 @@ const MultiFingerSceneOutput& MultiFingerScene::step(std::span<const Vec3> tips,
   out_.validSample = finite;
   if (!finite) return out_;
 
+  refitPublished();
   std::array<int, kPool> parts;
   const int n = nearParts(tips, parts);
   for (Bound& b : pool_) {  // parts no fingertip is near any more: free their state
@@ -104,6 +106,15 @@ const MultiFingerSceneOutput& MultiFingerScene::step(std::span<const Vec3> tips,
   return out_;
 }
 
+void MultiFingerScene::refitPublished() noexcept {
+  swaps_.follow(*scene_, [this](int part) {
+    const auto i = static_cast<std::size_t>(part);
+    if (carried(part)) return;  // a carried part's box: when put down
+    const geometry::Aabb box = worldBox(i);  // a box that shrank only costs a query now and then
+    if (!geometry::contains(boxes_.box(i), box)) boxes_.update(i, box);
+  });
+}
+
 int MultiFingerScene::nearParts(std::span<const Vec3> tips, std::array<int, kPool>& parts) noexcept {
   int n = 0;
   const auto add = [&](int part) {
@@ -115,8 +126,9 @@ int MultiFingerScene::nearParts(std::span<const Vec3> tips, std::array<int, kPoo
     if (b.part >= 0 && b.carried) add(b.part);
   int hits[kPool];
   for (const Vec3& x : tips) {
-    const std::size_t found = std::min<std::size_t>(boxes_.query(x, hits), kPool);
-    for (std::size_t h = 0; h < found; ++h) add(hits[h]);
+    const std::size_t found = boxes_.query(x, hits);
+    for (std::size_t h = 0; h < std::min<std::size_t>(found, kPool); ++h) add(hits[h]);
+    if (found > kPool) out_.unbound += static_cast<int>(found - kPool);  // beyond the buffer
   }
   std::sort(parts.begin(), parts.begin() + n);
   return n;

@@ -37,6 +37,7 @@
 
 #include "hapticgrasp/grasp/broad_phase.hpp"
 #include "hapticgrasp/grasp/grasp_state.hpp"
+#include "hapticgrasp/grasp/model_swaps.hpp"
 #include "hapticgrasp/grasp/multi_finger/god_object.hpp"
 #include "hapticgrasp/grasp/multi_finger/multi_finger_grasp.hpp"
 #include "hapticgrasp/grasp/scene.hpp"
@@ -101,6 +102,7 @@ class MultiFingerScene {
   void leave(Bound& b) noexcept;
   void settleState(std::uint32_t& events) noexcept;
   geometry::Aabb worldBox(std::size_t part) const noexcept;
+  void refitPublished() noexcept;  // boxes of parts whose models the scene swapped
 
   ScenePtr scene_;
   int fingers_;
@@ -108,6 +110,7 @@ class MultiFingerScene {
   std::array<Bound, kPool> pool_;
   std::vector<PartPose> poses_;
   BroadPhase boxes_;  // resting parts' world boxes, inflated by boxMargin_m
+  ModelSwaps swaps_;  // the scene's model swaps the boxes follow
   std::array<bool, kMaxFingers> touching_{};
   std::array<int, kPool> carriedList_{};
   std::size_t carriedCount_ = 0;

@@ -1,0 +1,98 @@
+#pragma once
+// A scene touchable at once, its models built in the background, nearest the hand first.
+//
+// The constructor makes the scene of coarse stand-ins (each part's bounding box, from the
+// shape, in closed form: makeCoarseScenePart) and returns: the servo may start on it. Worker
+// threads then build each distinct shape's model once (parts with the same key share one
+// immutable PartModel and penetration back end) and publish it to every part of that shape
+// (Scene::publish: the servo picks it up without a lock). The next model a worker takes is
+// the one whose nearest part is nearest the focus (setFocus: the hand), so the part under
+// the hand is exact first, and the order follows the hand as it moves.
+//
+// Workers run at SCHED_IDLE: they take only what the servo thread and the GUI leave.
+// Never touched by the servo thread.
+#include <atomic>
+#include <condition_variable>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "hapticgrasp/geometry/backend.hpp"
+#include "hapticgrasp/geometry/mass_properties.hpp"
+#include "hapticgrasp/geometry/part_model.hpp"
+#include "hapticgrasp/grasp/scene.hpp"
+
+namespace hg::grasp {
+
+// One part of a scene before its model exists.
+struct PartSource {
+  std::string name;
+  std::string key;          // parts with the same non-empty key share one model; "" shares nothing
+  geometry::Aabb bounds;    // object frame, metres: the stand-in until the model is in
+  PartPose pose;
+  geometry::MassSpec mass;
+  // Builds the part's model (on a worker; may throw). Parts sharing a key share the first's.
+  std::function<geometry::PartModelPtr()> load;
+};
+
+class SceneBuild {
+ public:
+  struct Options {
+    int workers = 1;
+    geometry::Backend backend = geometry::Backend::Auto;
+  };
+  // One distinct model and what became of it.
+  struct Model {
+    std::string name;                 // its first part's
+    std::vector<std::size_t> parts;   // the parts that share it
+    enum class Status { Waiting, Building, Built, Failed } status = Status::Waiting;
+    std::string error;                // Failed: why (the parts keep their stand-in)
+    geometry::PartModelPtr model;     // Built
+    geometry::PenetrationModelPtr penetration;
+    double build_s = 0;
+  };
+  struct Progress {
+    std::size_t parts = 0, models = 0;
+    std::size_t built = 0, failed = 0;  // models
+    std::size_t exactParts = 0;         // parts answered by their own model
+    bool finished = false;              // every model built or failed, or cancelled
+  };
+
+  // Throws std::invalid_argument (a part without a box or a loader) before any thread starts.
+  explicit SceneBuild(std::vector<PartSource> parts, const Options& options);
+  explicit SceneBuild(std::vector<PartSource> parts) : SceneBuild(std::move(parts), Options{}) {}
+  ~SceneBuild();  // cancels and joins (a model being built is finished first)
+  SceneBuild(const SceneBuild&) = delete;
+  SceneBuild& operator=(const SceneBuild&) = delete;
+
+  const ScenePtr& scene() const noexcept { return scene_; }
+  void setFocus(const Vec3& world_m);
+  Progress progress() const;
+  std::vector<Model> models() const;
+  // The model index of part i.
+  std::size_t modelOf(std::size_t part) const { return modelOf_.at(part); }
+  bool wait(double timeout_s = -1);
+  void cancel() noexcept;
+
+ private:
+  void work() noexcept;
+  long nextModel();  // under mutex_: the waiting model nearest the focus, -1 if none
+  void publish(std::size_t model);
+
+  std::vector<PartSource> sources_;
+  std::vector<std::size_t> modelOf_;
+  ScenePtr scene_;
+  mutable std::mutex mutex_;
+  std::condition_variable done_;
+  std::vector<Model> models_;
+  Vec3 focus_ = Vec3::Zero();
+  std::size_t remaining_ = 0, exactParts_ = 0, running_ = 0;
+  geometry::Backend backend_;
+  std::atomic<bool> cancel_{false};
+  std::vector<std::thread> workers_;
+};
+
+}  // namespace hg::grasp

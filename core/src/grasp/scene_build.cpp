@@ -1,0 +1,191 @@
+#include "hapticgrasp/grasp/scene_build.hpp"
+
+#include <pthread.h>
+#include <sched.h>
+
+#include <chrono>
+#include <limits>
+#include <stdexcept>
+#include <unordered_map>
+
+#include "hapticgrasp/geometry/backends.hpp"
+
+namespace hg::grasp {
+namespace {
+
+std::vector<ScenePart> standIns(const std::vector<PartSource>& sources) {
+  std::vector<ScenePart> parts;
+  parts.reserve(sources.size());
+  for (std::size_t i = 0; i < sources.size(); ++i) {
+    const PartSource& s = sources[i];
+    if (!s.load) throw std::invalid_argument("scene part " + std::to_string(i) + " (" + s.name + ") has no loader");
+    if (s.bounds.empty() || !s.bounds.min.allFinite() || !s.bounds.max.allFinite())
+      throw std::invalid_argument("scene part " + std::to_string(i) + " (" + s.name + ") has no finite box");
+    parts.push_back(makeCoarseScenePart(s.bounds, s.mass, s.pose));
+  }
+  return parts;
+}
+
+// Background work yields to everything else on the machine (the servo, the GUI).
+void lowerPriority() noexcept {
+  sched_param param{};
+  pthread_setschedparam(pthread_self(), SCHED_IDLE, &param);
+}
+
+}  // namespace
+
+SceneBuild::SceneBuild(std::vector<PartSource> parts, const Options& options)
+    : sources_(std::move(parts)), backend_(options.backend) {
+  scene_ = std::make_shared<const Scene>(standIns(sources_));
+  std::unordered_map<std::string, std::size_t> byKey;
+  modelOf_.resize(sources_.size());
+  for (std::size_t i = 0; i < sources_.size(); ++i) {
+    const std::string& key = sources_[i].key;
+    auto found = key.empty() ? byKey.end() : byKey.find(key);
+    if (found == byKey.end()) {
+      models_.push_back({});
+      models_.back().name = sources_[i].name;
+      found = key.empty() ? byKey.end() : byKey.emplace(key, models_.size() - 1).first;
+      modelOf_[i] = models_.size() - 1;
+    } else {
+      modelOf_[i] = found->second;
+    }
+    models_[modelOf_[i]].parts.push_back(i);
+  }
+  remaining_ = models_.size();
+  const int workers = std::max(1, options.workers);
+  for (int w = 0; w < workers && w < static_cast<int>(models_.size()); ++w) workers_.emplace_back([this] { work(); });
+}
+
+SceneBuild::~SceneBuild() {
+  cancel();
+  for (std::thread& t : workers_)
+    if (t.joinable()) t.join();
+}
+
+void SceneBuild::setFocus(const Vec3& world_m) {
+  if (!world_m.allFinite()) return;
+  std::lock_guard lock(mutex_);
+  focus_ = world_m;
+}
+
+long SceneBuild::nextModel() {
+  long best = -1;
+  double bestDistance = std::numeric_limits<double>::infinity();
+  for (std::size_t m = 0; m < models_.size(); ++m) {
+    if (models_[m].status != Model::Status::Waiting) continue;
+    for (const std::size_t part : models_[m].parts) {
+      const PartSource& s = sources_[part];
+      const double d = s.pose.absoluteBounds(s.bounds).squaredDistance(focus_);
+      if (d < bestDistance) {
+        bestDistance = d;
+        best = static_cast<long>(m);
+      }
+    }
+  }
+  return best;
+}
+
+void SceneBuild::work() noexcept {
+  lowerPriority();
+  for (;;) {
+    std::size_t m;
+    std::function<geometry::PartModelPtr()> load;
+    {
+      std::lock_guard lock(mutex_);
+      const long next = cancel_.load(std::memory_order_acquire) ? -1 : nextModel();
+      if (next < 0) break;
+      m = static_cast<std::size_t>(next);
+      models_[m].status = Model::Status::Building;
+      load = sources_[models_[m].parts.front()].load;
+      ++running_;
+    }
+    const auto start = std::chrono::steady_clock::now();
+    geometry::PartModelPtr model;
+    geometry::PenetrationModelPtr penetration;
+    std::string error;
+    try {
+      model = load();
+      penetration = geometry::makePenetration(model, backend_);
+    } catch (const std::exception& e) {
+      error = e.what();
+    } catch (...) {
+      error = "unknown error while building the model";
+    }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::lock_guard lock(mutex_);
+    Model& out = models_[m];
+    out.build_s = seconds;
+    if (penetration) {
+      out.model = std::move(model);
+      out.penetration = std::move(penetration);
+      try {
+        publish(m);
+        out.status = Model::Status::Built;
+      } catch (const std::exception& e) {  // a mass the scene refuses (an empty solid...)
+        out.status = Model::Status::Failed;
+        out.error = e.what();
+      }
+    } else {
+      out.status = Model::Status::Failed;
+      out.error = error;
+    }
+    --remaining_;
+    --running_;
+    done_.notify_all();
+  }
+  std::lock_guard lock(mutex_);
+  done_.notify_all();
+}
+
+// Every part of the model gets it, with the mass of its own spec (a density may differ
+// between parts of one shape). Under mutex_.
+void SceneBuild::publish(std::size_t m) {
+  const Model& model = models_[m];
+  for (const std::size_t part : model.parts) {
+    ScenePart p;
+    p.model = model.model;
+    p.penetration = model.penetration;
+    p.mass = model.model->massProperties(sources_[part].mass);
+    p.bounds = model.model->bounds();
+    scene_->publish(part, std::move(p));
+    ++exactParts_;
+  }
+}
+
+SceneBuild::Progress SceneBuild::progress() const {
+  std::lock_guard lock(mutex_);
+  Progress p;
+  p.parts = sources_.size();
+  p.models = models_.size();
+  for (const Model& m : models_) {
+    p.built += m.status == Model::Status::Built;
+    p.failed += m.status == Model::Status::Failed;
+  }
+  p.exactParts = exactParts_;
+  p.finished = remaining_ == 0 || (cancel_.load(std::memory_order_acquire) && running_ == 0);
+  return p;
+}
+
+std::vector<SceneBuild::Model> SceneBuild::models() const {
+  std::lock_guard lock(mutex_);
+  return models_;
+}
+
+bool SceneBuild::wait(double timeout_s) {
+  std::unique_lock lock(mutex_);
+  const auto finished = [this] { return remaining_ == 0 || (cancel_.load(std::memory_order_acquire) && running_ == 0); };
+  if (timeout_s < 0) {
+    done_.wait(lock, finished);
+    return true;
+  }
+  return done_.wait_for(lock, std::chrono::duration<double>(timeout_s), finished);
+}
+
+void SceneBuild::cancel() noexcept {
+  std::lock_guard lock(mutex_);
+  cancel_.store(true, std::memory_order_release);
+  done_.notify_all();
+}
+
+}  // namespace hg::grasp

@@ -1,0 +1,175 @@
+// A scene touchable at once: stand-ins first, each distinct shape built once, nearest the
+// focus first, failures kept to their parts, the servo never allocating meanwhile.
+#include "hapticgrasp/grasp/scene_build.hpp"
+
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <thread>
+
+#include "alloc_counter.hpp"
+#include "hapticgrasp/geometry/geometry_error.hpp"
+#include "hapticgrasp/grasp/hand_script.hpp"
+#include "hapticgrasp/servo/grasp_engine.hpp"
+#include "hapticgrasp/servo/scripted_hand_device.hpp"
+#include "hapticgrasp/servo/servo_loop.hpp"
+
+namespace hg::grasp {
+namespace {
+
+// `n` parts in a row along x, 0.1 m apart; parts i and j share a shape when i % shapes == j % shapes.
+std::vector<PartSource> row(int n, int shapes, std::atomic<int>* loads = nullptr) {
+  std::vector<PartSource> parts;
+  for (int i = 0; i < n; ++i) {
+    PartSource p;
+    p.name = "part " + std::to_string(i);
+    p.key = "shape " + std::to_string(i % shapes);
+    const double size = 10 + i % shapes;  // mm: each shape its own size
+    p.bounds = {Vec3::Zero(), Vec3::Constant(size / 1000)};
+    p.pose.position = Vec3(0.1 * i, 0, 0);
+    p.mass = geometry::MassSpec::density(1000 + i);
+    p.load = [size, loads] {
+      if (loads) ++*loads;
+      return geometry::PartModel::fromShape(BRepPrimAPI_MakeBox(size, size, size + 1).Shape(),
+                                            geometry::LengthUnit::Millimetre, "box");
+    };
+    parts.push_back(std::move(p));
+  }
+  return parts;
+}
+
+TEST(SceneBuild, StandInsAtOnceThenEveryDistinctShapeBuiltOnce) {
+  std::atomic<int> loads{0};
+  SceneBuild build(row(30, 3, &loads));
+  const ScenePtr scene = build.scene();
+  ASSERT_EQ(scene->size(), 30u);
+  ASSERT_TRUE(build.wait(120));
+  EXPECT_EQ(loads.load(), 3);
+  const SceneBuild::Progress p = build.progress();
+  EXPECT_EQ(p.models, 3u);
+  EXPECT_EQ(p.built, 3u);
+  EXPECT_EQ(p.exactParts, 30u);
+  EXPECT_TRUE(p.finished);
+  for (std::size_t i = 0; i < 30; ++i) {
+    const ScenePart& part = scene->part(i);
+    EXPECT_FALSE(part.coarse) << i;
+    EXPECT_EQ(part.penetration.get(), scene->part(i % 3).penetration.get()) << "shared model, part " << i;
+    EXPECT_EQ(part.initialPose.position.x(), 0.1 * static_cast<double>(i));
+    const double size = 0.010 + 0.001 * static_cast<double>(i % 3);
+    EXPECT_NEAR(part.mass.mass_kg, (1000.0 + static_cast<double>(i)) * size * size * (size + 0.001), 1e-12)
+        << "each part's own density";
+  }
+}
+
+TEST(SceneBuild, BuildsTheShapeNearestTheFocusFirst) {
+  std::vector<std::size_t> order;
+  std::mutex mutex;
+  auto parts = row(12, 12);
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    auto load = parts[i].load;
+    parts[i].load = [load, i, &order, &mutex] {
+      {
+        std::lock_guard lock(mutex);
+        order.push_back(i);
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));  // time for the focus to move
+      return load();
+    };
+  }
+  SceneBuild build(std::move(parts));
+  build.setFocus(Vec3(0.7, 0, 0));   // part 7; the first pick may have been made before
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  build.setFocus(Vec3(0.2, 0, 0));   // the hand moved: part 2 and its neighbours next
+  ASSERT_TRUE(build.wait(120));
+  ASSERT_EQ(order.size(), 12u);
+  // After the pick made before any focus (part 0, nearest the origin), 7 and its nearest
+  // neighbours, then from 2 outwards.
+  const auto pos = [&](std::size_t part) { return std::find(order.begin(), order.end(), part) - order.begin(); };
+  EXPECT_LE(pos(7), 2);
+  EXPECT_LT(pos(2), pos(11));
+  EXPECT_LT(pos(3), pos(10));
+  EXPECT_LT(pos(1), pos(9));
+}
+
+TEST(SceneBuild, AShapeThatFailsKeepsItsStandInAndSaysWhy) {
+  auto parts = row(4, 4);
+  parts[2].load = []() -> geometry::PartModelPtr { throw geometry::GeometryError("not a solid: an open shell"); };
+  SceneBuild build(std::move(parts));
+  ASSERT_TRUE(build.wait(120));
+  EXPECT_EQ(build.progress().failed, 1u);
+  EXPECT_EQ(build.progress().exactParts, 3u);
+  EXPECT_TRUE(build.scene()->part(2).coarse);
+  const auto models = build.models();
+  EXPECT_EQ(models[build.modelOf(2)].status, SceneBuild::Model::Status::Failed);
+  EXPECT_EQ(models[build.modelOf(2)].error, "not a solid: an open shell");
+}
+
+TEST(SceneBuild, RefusesPartsWithoutABoxOrALoader) {
+  auto parts = row(2, 2);
+  parts[1].bounds = geometry::Aabb{};
+  EXPECT_THROW(SceneBuild{std::move(parts)}, std::invalid_argument);
+  parts = row(2, 2);
+  parts[0].load = nullptr;
+  EXPECT_THROW(SceneBuild{std::move(parts)}, std::invalid_argument);
+}
+
+TEST(SceneBuild, CancelStopsAfterTheModelInProgress) {
+  auto parts = row(20, 20);
+  for (auto& p : parts) {
+    auto load = p.load;
+    p.load = [load] {
+      std::this_thread::sleep_for(std::chrono::milliseconds(30));
+      return load();
+    };
+  }
+  SceneBuild build(std::move(parts));
+  std::this_thread::sleep_for(std::chrono::milliseconds(40));
+  build.cancel();
+  ASSERT_TRUE(build.wait(10));
+  EXPECT_TRUE(build.progress().finished);
+  EXPECT_LT(build.progress().built, 5u);
+}
+
+// The real servo thread on a scene whose models are swapped in while it runs: no
+// allocation, the hand feels the part throughout.
+TEST(SceneBuild, TheServoNeverAllocatesWhileModelsComeIn) {
+  auto parts = row(200, 50);
+  for (auto& p : parts) {
+    auto load = p.load;
+    p.load = [load] {
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      return load();
+    };
+  }
+  SceneBuild build(std::move(parts));
+  std::vector<HandKey> keys(2);
+  keys[0].t = 0;
+  keys[1].t = 100;
+  for (HandKey& k : keys) {  // the index 1 mm inside the top of part 0 (a 10 x 10 x 11 mm box)
+    k.index = Vec3(0.005, 0.005, 0.010);
+    k.thumb = Vec3(0.005, 0.005, 0.3);
+    k.wrist = Vec3(0.005, 0.005, 0.4);
+  }
+  auto device = std::make_shared<servo::ScriptedHandDevice>(HandScript(std::move(keys)));
+  servo::ServoConfig config;
+  config.rate_hz = 2000;
+  config.realtime = false;
+  config.allocationCounter = &hg::servo::threadAllocations;
+  servo::ServoLoop loop(device, std::make_unique<servo::TwoFingerEngine>(build.scene()), config);
+  loop.start();
+  ASSERT_TRUE(build.wait(120));
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  loop.stop();
+  servo::ServoSnapshot s;
+  ASSERT_TRUE(loop.read(s));
+  EXPECT_EQ(build.progress().exactParts, 200u);
+  EXPECT_GT(s.tick, 100u);
+  EXPECT_EQ(s.allocations, 0);
+  EXPECT_EQ(s.state, GraspState::IndexContact);  // 1 mm in, whichever model answered
+}
+
+}  // namespace
+}  // namespace hg::grasp
