@@ -3,6 +3,7 @@
 #include <pthread.h>
 #include <sched.h>
 
+#include <algorithm>
 #include <chrono>
 #include <limits>
 #include <stdexcept>
@@ -18,7 +19,6 @@ std::vector<ScenePart> standIns(const std::vector<PartSource>& sources) {
   parts.reserve(sources.size());
   for (std::size_t i = 0; i < sources.size(); ++i) {
     const PartSource& s = sources[i];
-    if (!s.load) throw std::invalid_argument("scene part " + std::to_string(i) + " (" + s.name + ") has no loader");
     if (s.bounds.empty() || !s.bounds.min.allFinite() || !s.bounds.max.allFinite())
       throw std::invalid_argument("scene part " + std::to_string(i) + " (" + s.name + ") has no finite box");
     parts.push_back(makeCoarseScenePart(s.bounds, s.mass, s.pose));
@@ -36,7 +36,7 @@ void lowerPriority() noexcept {
 
 SceneBuild::SceneBuild(std::vector<PartSource> parts, const Options& options)
     : sources_(std::move(parts)), backend_(options.backend) {
-  scene_ = std::make_shared<const Scene>(standIns(sources_));
+  scenes_.push_back(std::make_shared<const Scene>(standIns(sources_)));
   std::unordered_map<std::string, std::size_t> byKey;
   modelOf_.resize(sources_.size());
   for (std::size_t i = 0; i < sources_.size(); ++i) {
@@ -52,6 +52,8 @@ SceneBuild::SceneBuild(std::vector<PartSource> parts, const Options& options)
     }
     models_[modelOf_[i]].parts.push_back(i);
   }
+  loaders_.resize(models_.size());
+  for (std::size_t m = 0; m < models_.size(); ++m) loaders_[m] = sources_[models_[m].parts.front()].load;
   remaining_ = models_.size();
   const int workers = std::max(1, options.workers);
   for (int w = 0; w < workers && w < static_cast<int>(models_.size()); ++w) workers_.emplace_back([this] { work(); });
@@ -63,27 +65,75 @@ SceneBuild::~SceneBuild() {
     if (t.joinable()) t.join();
 }
 
+ScenePtr SceneBuild::scene() const {
+  std::lock_guard lock(mutex_);
+  return scenes_.back();
+}
+
 void SceneBuild::setFocus(const Vec3& world_m) {
   if (!world_m.allFinite()) return;
   std::lock_guard lock(mutex_);
   focus_ = world_m;
 }
 
+double SceneBuild::distance(std::size_t m) const {
+  double best = std::numeric_limits<double>::infinity();
+  const Scene& scene = *scenes_.back();
+  for (const std::size_t part : models_[m].parts) {
+    const geometry::Aabb box = scene.part(part).initialPose.absoluteBounds(sources_[part].bounds);
+    best = std::min(best, box.squaredDistance(focus_));
+  }
+  return best;
+}
+
 long SceneBuild::nextModel() {
   long best = -1;
   double bestDistance = std::numeric_limits<double>::infinity();
   for (std::size_t m = 0; m < models_.size(); ++m) {
-    if (models_[m].status != Model::Status::Waiting) continue;
-    for (const std::size_t part : models_[m].parts) {
-      const PartSource& s = sources_[part];
-      const double d = s.pose.absoluteBounds(s.bounds).squaredDistance(focus_);
-      if (d < bestDistance) {
-        bestDistance = d;
-        best = static_cast<long>(m);
-      }
+    if (models_[m].status != Model::Status::Waiting || !loaders_[m]) continue;
+    const double d = distance(m);
+    if (best < 0 || d < bestDistance) {
+      bestDistance = d;
+      best = static_cast<long>(m);
     }
   }
   return best;
+}
+
+std::vector<std::size_t> SceneBuild::awaitingShapes(std::size_t limit) const {
+  std::lock_guard lock(mutex_);
+  std::vector<std::pair<double, std::size_t>> waiting;
+  for (std::size_t m = 0; m < models_.size(); ++m)
+    if (models_[m].status == Model::Status::Waiting && !loaders_[m]) waiting.emplace_back(distance(m), m);
+  const std::size_t n = std::min(limit, waiting.size());
+  std::partial_sort(waiting.begin(), waiting.begin() + static_cast<std::ptrdiff_t>(n), waiting.end());
+  std::vector<std::size_t> out;
+  for (std::size_t k = 0; k < n; ++k) out.push_back(waiting[k].second);
+  return out;
+}
+
+void SceneBuild::provide(std::size_t model, std::function<geometry::PartModelPtr()> load) {
+  std::lock_guard lock(mutex_);
+  if (model >= models_.size()) throw std::out_of_range("no model " + std::to_string(model));
+  if (loaders_[model]) throw std::logic_error("model " + std::to_string(model) + " has its shape already");
+  if (!load) throw std::invalid_argument("no loader for model " + std::to_string(model));
+  loaders_[model] = std::move(load);
+  work_.notify_one();
+}
+
+ScenePtr SceneBuild::rebase(const std::vector<PartPose>& poses) {
+  std::lock_guard lock(mutex_);
+  const Scene& last = *scenes_.back();
+  if (poses.size() != last.size())
+    throw std::invalid_argument("rebase needs one pose per part (" + std::to_string(last.size()) + ")");
+  std::vector<ScenePart> parts;
+  parts.reserve(poses.size());
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    parts.push_back(last.part(i));
+    parts.back().initialPose = poses[i];
+  }
+  scenes_.push_back(std::make_shared<const Scene>(std::move(parts)));
+  return scenes_.back();
 }
 
 void SceneBuild::work() noexcept {
@@ -92,12 +142,18 @@ void SceneBuild::work() noexcept {
     std::size_t m;
     std::function<geometry::PartModelPtr()> load;
     {
-      std::lock_guard lock(mutex_);
-      const long next = cancel_.load(std::memory_order_acquire) ? -1 : nextModel();
+      std::unique_lock lock(mutex_);
+      long next = -1;
+      // Wait for a model with its shape; done when none is waiting any more.
+      work_.wait(lock, [&] {
+        if (cancel_.load(std::memory_order_acquire)) return true;
+        next = nextModel();
+        return next >= 0 || remaining_ == running_;
+      });
       if (next < 0) break;
       m = static_cast<std::size_t>(next);
       models_[m].status = Model::Status::Building;
-      load = sources_[models_[m].parts.front()].load;
+      load = loaders_[m];
       ++running_;
     }
     const auto start = std::chrono::steady_clock::now();
@@ -133,6 +189,7 @@ void SceneBuild::work() noexcept {
     --remaining_;
     --running_;
     done_.notify_all();
+    work_.notify_all();  // the others may be done too
   }
   std::lock_guard lock(mutex_);
   done_.notify_all();
@@ -148,7 +205,7 @@ void SceneBuild::publish(std::size_t m) {
     p.penetration = model.penetration;
     p.mass = model.model->massProperties(sources_[part].mass);
     p.bounds = model.model->bounds();
-    scene_->publish(part, std::move(p));
+    for (const ScenePtr& scene : scenes_) scene->publish(part, p);
     ++exactParts_;
   }
 }
@@ -186,6 +243,7 @@ void SceneBuild::cancel() noexcept {
   std::lock_guard lock(mutex_);
   cancel_.store(true, std::memory_order_release);
   done_.notify_all();
+  work_.notify_all();
 }
 
 }  // namespace hg::grasp

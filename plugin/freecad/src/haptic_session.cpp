@@ -195,6 +195,25 @@ void Session::replacePart(std::size_t index, ModelBuild& build) {
 
 void Session::restart(const std::vector<Placement>& placements) {
   if (!loop_ || !device_) throw std::logic_error("restart() needs a started session");
+  if (build_) {  // scene mode: the same parts and models, standing where the document has them
+    if (placements.size() != sceneRequests_.size())
+      throw std::invalid_argument("restart() needs one placement per part (" + std::to_string(sceneRequests_.size()) + ")");
+    std::vector<grasp::PartPose> poses;
+    poses.reserve(placements.size());
+    for (const auto& p : placements) poses.push_back(toPose(p));
+    if (loop_->read(*snap_)) {
+      timeOffset_s_ += snap_->time_s;
+      tickOffset_ += snap_->tick;
+    }
+    loop_->stop();
+    loop_.reset();
+    const grasp::ScenePtr scene = build_->rebase(poses);
+    reader_ = servo::SnapshotReader{};
+    resetTracker();
+    loop_ = std::make_unique<servo::ServoLoop>(device_, makeEngine(scene), config_);
+    loop_->start();
+    return;
+  }
   if (placements.size() != parts_.size())
     throw std::invalid_argument("restart() needs one placement per part (" + std::to_string(parts_.size()) + ")");
   std::vector<grasp::PartPose> poses;
@@ -403,11 +422,128 @@ std::unique_ptr<servo::GraspEngine> Session::makeEngine(const grasp::ScenePtr& s
   return std::make_unique<servo::TwoFingerEngine>(scene, parameters_);
 }
 
-void Session::resetTracker() {
+std::vector<grasp::PartPose> Session::initialPoses() const {
   std::vector<grasp::PartPose> poses;
-  poses.reserve(parts_.size());
-  for (const auto& part : parts_) poses.push_back(part.initialPose);
-  tracker_.reset(std::move(poses));
+  if (build_) {
+    const grasp::ScenePtr scene = build_->scene();
+    for (std::size_t i = 0; i < scene->size(); ++i) poses.push_back(scene->part(i).initialPose);
+  } else {
+    for (const auto& part : parts_) poses.push_back(part.initialPose);
+  }
+  return poses;
+}
+
+void Session::resetTracker() { tracker_.reset(initialPoses()); }
+
+// --- Scene mode ------------------------------------------------------------------------
+
+namespace {
+
+const char* kStandInReason = "box: its bounding box until its model is built";
+
+}  // namespace
+
+void Session::startScene(const std::vector<SceneRequest>& requests, double rate_hz, bool realtime, int workers) {
+  if (loop_) throw std::logic_error("a session starts once");
+  if (requests.empty()) throw std::invalid_argument("no parts to grasp");
+  if (!script_ && handHold_s_ <= 0 && !hid_ && !arm_)
+    throw std::invalid_argument("no device: set a hand script or use the hand input first");
+  std::vector<grasp::PartSource> sources;
+  sources.reserve(requests.size());
+  for (const SceneRequest& r : requests) {
+    grasp::PartSource p;
+    p.name = r.name;
+    p.key = r.key;
+    p.bounds = {toMetres(r.boxMin_mm), toMetres(r.boxMax_mm)};
+    p.pose = toPose(r.placement);  // throws for a bad placement: nothing started
+    p.mass = r.mass;
+    sources.push_back(std::move(p));
+  }
+  grasp::SceneBuild::Options options;
+  options.workers = workers;
+  build_ = std::make_unique<grasp::SceneBuild>(std::move(sources), options);
+  sceneRequests_ = requests;
+  backends_.assign(requests.size(), {"box", kStandInReason});
+  describedModel_.assign(build_->progress().models, false);
+  exactParts_ = 0;
+  parts_.clear();
+  infos_.clear();
+  // The device and the loop as start() makes them, on the scene of stand-ins.
+  std::shared_ptr<device::Device> device;
+  if (handHold_s_ > 0) device = input_ = std::make_shared<HandInputDevice>(handHold_s_);
+  else if (script_) device = scripted_ = std::make_shared<servo::ScriptedHandDevice>(*script_);
+  else if (hid_) device = hid_;
+  else device = arm_;
+  servo::ServoConfig config;
+  config.rate_hz = rate_hz;
+  config.realtime = realtime;
+  device_ = device;
+  config_ = config;
+  resetTracker();
+  loop_ = std::make_unique<servo::ServoLoop>(device, makeEngine(build_->scene()), config);
+  loop_->start();
+}
+
+std::vector<std::size_t> Session::wantedShapes(std::size_t limit) const {
+  if (!build_) throw std::logic_error("not a scene session: startScene() first");
+  return build_->awaitingShapes(limit);
+}
+
+std::size_t Session::modelOfPart(std::size_t part) const {
+  if (!build_) throw std::logic_error("not a scene session: startScene() first");
+  return build_->modelOf(part);
+}
+
+std::size_t Session::firstPartOfModel(std::size_t model) const {
+  if (!build_) throw std::logic_error("not a scene session: startScene() first");
+  for (std::size_t i = 0; i < sceneRequests_.size(); ++i)
+    if (build_->modelOf(i) == model) return i;
+  throw std::out_of_range("no model " + std::to_string(model));
+}
+
+void Session::provideShape(std::size_t model, std::string brep) {
+  if (!build_) throw std::logic_error("not a scene session: startScene() first");
+  const std::string name = sceneRequests_.at(firstPartOfModel(model)).name;
+  auto text = std::make_shared<const std::string>(std::move(brep));
+  build_->provide(model, [text, name] { return loadPart(*text, name); });
+}
+
+SceneStatus Session::sceneStatus() const {
+  if (!build_) throw std::logic_error("not a scene session: startScene() first");
+  const grasp::SceneBuild::Progress p = build_->progress();
+  return {p.parts, p.models, p.built, p.failed, p.exactParts, p.finished};
+}
+
+PartInfo Session::modelInfo(std::size_t model, std::string* error) const {
+  if (!build_) throw std::logic_error("not a scene session: startScene() first");
+  const auto models = build_->models();
+  const grasp::SceneBuild::Model& m = models.at(model);
+  if (error) *error = m.error;
+  if (m.status != grasp::SceneBuild::Model::Status::Built) {
+    PartInfo info;
+    info.name = m.name;
+    info.backend = "box";
+    info.backendReason = m.status == grasp::SceneBuild::Model::Status::Failed ? "box: its model failed: " + m.error
+                                                                               : kStandInReason;
+    return info;
+  }
+  return describe(*m.model, sceneRequests_.at(m.parts.front()).mass, *m.penetration);
+}
+
+// The parts whose model came in since the last snapshot get their back end's line.
+void Session::refreshBackends() {
+  const grasp::SceneBuild::Progress p = build_->progress();
+  if (p.exactParts == exactParts_ && p.failed == 0) return;
+  const auto models = build_->models();
+  for (std::size_t m = 0; m < models.size(); ++m) {
+    if (describedModel_[m] || models[m].status == grasp::SceneBuild::Model::Status::Waiting ||
+        models[m].status == grasp::SceneBuild::Model::Status::Building)
+      continue;
+    describedModel_[m] = true;
+    const PartInfo info = modelInfo(m);
+    for (const std::size_t part : models[m].parts) backends_[part] = {info.backend, info.backendReason};
+  }
+  exactParts_ = p.exactParts;
 }
 
 void Session::stop() noexcept {
@@ -417,15 +553,22 @@ void Session::stop() noexcept {
 SessionSnapshot Session::snapshot() {
   SessionSnapshot out;
   out.placements.reserve(parts_.size());
-  if (!loop_ || !loop_->read(*snap_)) {
-    for (const auto& part : parts_) out.placements.push_back(toPlacement(part.initialPose));
+  if (build_) {
+    refreshBackends();
+    out.backends = backends_;
+    out.exactParts = exactParts_;
+  } else {
     for (const PartInfo& info : infos_) out.backends.emplace_back(info.backend, info.backendReason);
+    out.exactParts = infos_.size();
+  }
+  if (!loop_ || !loop_->read(*snap_)) {
+    for (const grasp::PartPose& pose : initialPoses()) out.placements.push_back(toPlacement(pose));
     out.tick = tickOffset_;
     out.time_s = timeOffset_s_;
     return out;
   }
   const servo::ServoSnapshot& s = *snap_;
-  for (const PartInfo& info : infos_) out.backends.emplace_back(info.backend, info.backendReason);
+  if (build_) build_->setFocus(s.hand.index);  // the build follows the hand
   out.tick = tickOffset_ + s.tick;
   out.time_s = timeOffset_s_ + s.time_s;
   out.state = grasp::toString(s.state);

@@ -20,6 +20,7 @@
 #include "hapticgrasp/geometry/part_model.hpp"
 #include "hapticgrasp/geometry/penetration.hpp"
 #include "hapticgrasp/grasp/grasp_parameters.hpp"
+#include "hapticgrasp/grasp/scene_build.hpp"
 #include "hapticgrasp/servo/pose_tracker.hpp"
 #include "hapticgrasp/servo/scripted_hand_device.hpp"
 #include "hapticgrasp/servo/servo_loop.hpp"
@@ -121,6 +122,25 @@ class ModelBuild {
   std::thread worker_;
 };
 
+// One part of a scene started at once (Session::startScene): its box from the shape
+// (object frame, mm: FreeCAD's BoundBox of the shape without its Placement), where it
+// stands, its mass, and the key its shape shares with identical ones (an App::Link's
+// target, the same TShape); the shape's BREP text comes later (provideShape).
+struct SceneRequest {
+  std::string name;
+  std::string key;
+  std::array<double, 3> boxMin_mm{}, boxMax_mm{};
+  Placement placement;
+  geometry::MassSpec mass;
+};
+
+struct SceneStatus {
+  std::size_t parts = 0, models = 0;  // parts, distinct shapes
+  std::size_t built = 0, failed = 0;  // models
+  std::size_t exactParts = 0;         // parts answered by their own model (the rest: their box)
+  bool finished = false;
+};
+
 struct SessionSnapshot {
   std::uint64_t tick = 0;
   double time_s = 0;
@@ -147,6 +167,7 @@ struct SessionSnapshot {
   // Every part's penetration back end and why (PartInfo::backend, backendReason), in part
   // order: what answers the fingertips, next to where they are.
   std::vector<std::pair<std::string, std::string>> backends;
+  std::size_t exactParts = 0;  // parts answered by their own model (scene mode: the rest by their box)
 };
 
 class Session {
@@ -168,7 +189,7 @@ class Session {
   // standing at `placements` (mm, every part), with the same device and parameters. The
   // grasp starts again from FREE; snapshot time and ticks carry on.
   void restart(const std::vector<Placement>& placements);
-  std::size_t partCount() const { return parts_.size(); }
+  std::size_t partCount() const { return build_ ? sceneRequests_.size() : parts_.size(); }
   const PartInfo& partInfo(std::size_t i) const { return infos_.at(i); }
 
   // The device: a scripted hand (keys in mm, `frame` places the script's frame; key turns
@@ -227,6 +248,24 @@ class Session {
   const std::string& method() const { return method_; }
 
   void start(double rate_hz = 1000, bool realtime = false);
+
+  // Scene mode: instead of addPart/addBuilt then start(), the servo starts at once on the
+  // parts' stand-ins (their boxes), and each distinct shape's model is built in the
+  // background, once, nearest the hand first, as its shape is provided. Throws
+  // std::invalid_argument (no parts, a bad box or placement, no device).
+  void startScene(const std::vector<SceneRequest>& parts, double rate_hz = 2000, bool realtime = false,
+                  int workers = 1);
+  bool sceneMode() const { return build_ != nullptr; }
+  // The models still waiting for their shape, nearest the hand first (at most `limit`); the
+  // part whose shape to export for each: its first part.
+  std::vector<std::size_t> wantedShapes(std::size_t limit) const;
+  std::size_t modelOfPart(std::size_t part) const;
+  std::size_t firstPartOfModel(std::size_t model) const;
+  // Model m's shape, BREP text in mm without placement (parsed on a worker).
+  void provideShape(std::size_t model, std::string brep);
+  SceneStatus sceneStatus() const;
+  // A built model's summary (its first part's mass), or its error (`error` set).
+  PartInfo modelInfo(std::size_t model, std::string* error = nullptr) const;
   void stop() noexcept;
   bool running() const { return loop_ && loop_->running(); }
 
@@ -257,6 +296,14 @@ class Session {
   servo::SnapshotReader reader_;
   servo::PoseTracker tracker_;  // every part's pose, from the snapshots' moving parts and put-downs
   void resetTracker();
+  std::vector<grasp::PartPose> initialPoses() const;
+  void refreshBackends();  // scene mode: the backends of parts whose model came in
+
+  std::unique_ptr<grasp::SceneBuild> build_;  // scene mode
+  std::vector<SceneRequest> sceneRequests_;
+  std::vector<std::pair<std::string, std::string>> backends_;  // scene mode, per part
+  std::vector<bool> describedModel_;
+  std::size_t exactParts_ = 0;
 };
 
 }  // namespace hg::freecad

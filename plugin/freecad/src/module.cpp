@@ -334,6 +334,61 @@ PYBIND11_MODULE(_hapticgrasp, m) {
       .def_property_readonly("method", &freecad::Session::method)
       .def("start", &freecad::Session::start, py::arg("rate_hz") = 1000.0, py::arg("realtime") = false,
            py::call_guard<py::gil_scoped_release>())
+      .def(
+          "start_scene",
+          [](freecad::Session& s, const py::list& parts, double rate_hz, bool realtime, int workers) {
+            std::vector<freecad::SceneRequest> requests;
+            requests.reserve(parts.size());
+            for (const py::handle& item : parts) {
+              const auto t = py::reinterpret_borrow<py::tuple>(item);
+              if (t.size() != 7)
+                throw std::invalid_argument(
+                    "a scene part is (name, key, box_min_mm, box_max_mm, base_mm, quaternion, density)");
+              freecad::SceneRequest r;
+              r.name = t[0].cast<std::string>();
+              r.key = t[1].cast<std::string>();
+              r.boxMin_mm = t[2].cast<std::array<double, 3>>();
+              r.boxMax_mm = t[3].cast<std::array<double, 3>>();
+              r.placement = placementFrom(t[4].cast<std::array<double, 3>>(), t[5].cast<std::array<double, 4>>());
+              r.mass = massSpec(t[6].is_none() ? std::nullopt : std::optional<double>(t[6].cast<double>()), std::nullopt);
+              requests.push_back(std::move(r));
+            }
+            py::gil_scoped_release release;
+            s.startScene(requests, rate_hz, realtime, workers);
+          },
+          py::arg("parts"), py::arg("rate_hz") = 2000.0, py::arg("realtime") = false, py::arg("workers") = 1,
+          "Scene mode: starts the servo at once on every part's bounding box; parts are (name, key, box_min_mm, "
+          "box_max_mm, base_mm, quaternion, density), the box in the part's own frame, the key shared by "
+          "identical shapes. Each distinct shape's model is built in the background once its shape comes "
+          "(wanted_shapes, provide_shape), nearest the hand first.")
+      .def_property_readonly("scene_mode", &freecad::Session::sceneMode)
+      .def("wanted_shapes", &freecad::Session::wantedShapes, py::arg("limit") = 8,
+           "Scene mode: the models waiting for their shape, nearest the hand first.")
+      .def("model_of_part", &freecad::Session::modelOfPart, py::arg("part"))
+      .def("first_part_of_model", &freecad::Session::firstPartOfModel, py::arg("model"))
+      .def("provide_shape", &freecad::Session::provideShape, py::arg("model"), py::arg("brep"),
+           "Scene mode: model's shape, BREP text in mm without placement (parsed and checked on a worker).")
+      .def("scene_status",
+           [](const freecad::Session& s) {
+             const freecad::SceneStatus st = s.sceneStatus();
+             py::dict d;
+             d["parts"] = st.parts;
+             d["models"] = st.models;
+             d["built"] = st.built;
+             d["failed"] = st.failed;
+             d["exact_parts"] = st.exactParts;
+             d["finished"] = st.finished;
+             return d;
+           })
+      .def(
+          "model_info",
+          [](const freecad::Session& s, std::size_t model) {
+            std::string error;
+            py::dict d = infoDict(s.modelInfo(model, &error));
+            d["error"] = error;
+            return d;
+          },
+          py::arg("model"), "Scene mode: a model's summary as part_info gives it, and 'error' if it failed.")
       .def("stop", &freecad::Session::stop, py::call_guard<py::gil_scoped_release>())
       .def_property_readonly("running", &freecad::Session::running)
       .def("set_device_silent", &freecad::Session::setDeviceSilent)
@@ -373,6 +428,7 @@ PYBIND11_MODULE(_hapticgrasp, m) {
             py::list backends;
             for (const auto& [backend, reason] : snap.backends) backends.append(py::make_tuple(backend, reason));
             d["backends"] = backends;
+            d["exact_parts"] = snap.exactParts;
             return d;
           },
           "state, grasped part, events since the previous snapshot, watchdog fault, every part's "

@@ -169,3 +169,91 @@ TEST(HapticSession, ReplacePartAndRestartMakeTheNewShapeFelt) {
 
 }  // namespace
 }  // namespace hg::freecad
+
+namespace hg::freecad {
+namespace {
+
+// Scene mode: the servo runs on the parts' boxes at once; two cylinders share one model
+// (one key) and get it when their shape is provided; the block keeps its box meanwhile.
+TEST(HapticSessionScene, StartsOnTheBoxesAndTakesEachShapeOnce) {
+  Session session;
+  const auto request = [](const std::string& name, const std::string& key, double x, std::array<double, 3> lo,
+                          std::array<double, 3> hi) {
+    return SceneRequest{name, key, lo, hi, Placement{{x, 0, 0}, {0, 0, 0, 1}}, geometry::MassSpec::density(1000)};
+  };
+  // The sample cylinder: diameter 100 mm, 400 mm long along z, centred.
+  const std::array<double, 3> cMin{-50, -50, -200}, cMax{50, 50, 200};
+  session.useHandInput(0.5);
+  session.startScene({request("A", "cyl", 0, cMin, cMax), request("B", "cyl", 300, cMin, cMax),
+                      request("Block", "block", 600, {-60, -60, -60}, {60, 60, 60})},
+                     1000, false);
+  EXPECT_TRUE(session.running());
+  EXPECT_EQ(session.partCount(), 3u);
+  EXPECT_EQ(session.modelOfPart(0), session.modelOfPart(1));
+  EXPECT_NE(session.modelOfPart(0), session.modelOfPart(2));
+  SceneStatus st = session.sceneStatus();
+  EXPECT_EQ(st.models, 2u);
+  EXPECT_EQ(st.exactParts, 0u);
+  // The hand near B: its shape is wanted first. Touch a corner of its box, outside the cylinder.
+  const std::array<double, 3> corner{300 + 45, 45, 0}, far{-500, 0, 0}, wrist{-500, 0, 100};
+  for (int i = 0; i < 50; ++i) {
+    session.setHand(corner, far, wrist);
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  SessionSnapshot snap = session.snapshot();
+  EXPECT_EQ(snap.state, "INDEX CONTACT");  // the box answers
+  EXPECT_EQ(snap.backends[1].first, "box");
+  EXPECT_EQ(snap.exactParts, 0u);
+  const auto wanted = session.wantedShapes(8);
+  ASSERT_EQ(wanted.size(), 2u);
+  EXPECT_EQ(wanted[0], session.modelOfPart(1));
+  session.provideShape(wanted[0], cylinderBrep());
+  for (int i = 0; i < 2000 && session.sceneStatus().built < 1; ++i) {
+    session.setHand(corner, far, wrist);
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  for (int i = 0; i < 20; ++i) {
+    session.setHand(corner, far, wrist);
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  snap = session.snapshot();
+  EXPECT_EQ(snap.state, "FREE");  // the cylinder's own model: the corner is outside it
+  EXPECT_EQ(snap.exactParts, 2u);
+  EXPECT_EQ(snap.backends[0].first, "analytic");
+  EXPECT_EQ(snap.backends[1].first, "analytic");
+  EXPECT_EQ(snap.backends[2].first, "box");
+  EXPECT_EQ(session.modelInfo(session.modelOfPart(0)).faces, 3);
+  session.provideShape(session.modelOfPart(2), blockBrep());
+  for (int i = 0; i < 5000 && !session.sceneStatus().finished; ++i) {
+    session.setHand(corner, far, wrist);
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  st = session.sceneStatus();
+  EXPECT_TRUE(st.finished);
+  EXPECT_EQ(st.exactParts, 3u);
+  // A restart with B moved 100 mm along y: the models stay, the parts stand anew.
+  session.restart({Placement{{0, 0, 0}, {0, 0, 0, 1}}, Placement{{300, 100, 0}, {0, 0, 0, 1}},
+                   Placement{{600, 0, 0}, {0, 0, 0, 1}}});
+  for (int i = 0; i < 20; ++i) {
+    session.setHand(corner, far, wrist);
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  snap = session.snapshot();
+  session.stop();
+  EXPECT_NEAR(snap.placements[1].base_mm[1], 100, 1e-9);
+  EXPECT_EQ(snap.backends[1].first, "analytic");
+  EXPECT_EQ(snap.exactParts, 3u);
+}
+
+TEST(HapticSessionScene, RefusesNoPartsOrNoDevice) {
+  Session session;
+  EXPECT_THROW(session.startScene({}, 1000, false), std::invalid_argument);
+  EXPECT_THROW(session.startScene({SceneRequest{"A", "", {0, 0, 0}, {1, 1, 1}, {}, geometry::MassSpec::density(1000)}},
+                                  1000, false),
+               std::invalid_argument);
+  EXPECT_FALSE(session.running());
+  EXPECT_THROW(session.wantedShapes(1), std::logic_error);
+}
+
+}  // namespace
+}  // namespace hg::freecad

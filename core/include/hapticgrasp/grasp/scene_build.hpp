@@ -35,6 +35,8 @@ struct PartSource {
   PartPose pose;
   geometry::MassSpec mass;
   // Builds the part's model (on a worker; may throw). Parts sharing a key share the first's.
+  // Empty: the shape comes later (SceneBuild::provide), as the caller can export it (the
+  // workbench exports BREP text on the GUI thread, a few parts per tick, nearest first).
   std::function<geometry::PartModelPtr()> load;
 };
 
@@ -61,15 +63,24 @@ class SceneBuild {
     bool finished = false;              // every model built or failed, or cancelled
   };
 
-  // Throws std::invalid_argument (a part without a box or a loader) before any thread starts.
+  // Throws std::invalid_argument (a part without a finite box) before any thread starts.
   explicit SceneBuild(std::vector<PartSource> parts, const Options& options);
   explicit SceneBuild(std::vector<PartSource> parts) : SceneBuild(std::move(parts), Options{}) {}
   ~SceneBuild();  // cancels and joins (a model being built is finished first)
   SceneBuild(const SceneBuild&) = delete;
   SceneBuild& operator=(const SceneBuild&) = delete;
 
-  const ScenePtr& scene() const noexcept { return scene_; }
+  // The scene the servo runs on (the latest rebase()).
+  ScenePtr scene() const;
   void setFocus(const Vec3& world_m);
+  // The models still waiting for their shape, nearest the focus first (at most `limit`).
+  std::vector<std::size_t> awaitingShapes(std::size_t limit) const;
+  // Model m's loader (its shape has come); throws std::logic_error if it had one.
+  void provide(std::size_t model, std::function<geometry::PartModelPtr()> load);
+  // A new scene with the same parts and their current models, standing at `poses` (a
+  // servo restarted with the parts where the document has them); later models are
+  // published to it too. Throws std::invalid_argument for a wrong count.
+  ScenePtr rebase(const std::vector<PartPose>& poses);
   Progress progress() const;
   std::vector<Model> models() const;
   // The model index of part i.
@@ -79,14 +90,16 @@ class SceneBuild {
 
  private:
   void work() noexcept;
-  long nextModel();  // under mutex_: the waiting model nearest the focus, -1 if none
+  long nextModel();  // under mutex_: the waiting model with a loader nearest the focus, -1 if none
+  double distance(std::size_t model) const;  // under mutex_: of its nearest part to the focus
   void publish(std::size_t model);
 
   std::vector<PartSource> sources_;
   std::vector<std::size_t> modelOf_;
-  ScenePtr scene_;
+  std::vector<ScenePtr> scenes_;  // every scene made (rebase()); the last is the servo's
+  std::vector<std::function<geometry::PartModelPtr()>> loaders_;  // per model; empty: awaiting its shape
   mutable std::mutex mutex_;
-  std::condition_variable done_;
+  std::condition_variable done_, work_;
   std::vector<Model> models_;
   Vec3 focus_ = Vec3::Zero();
   std::size_t remaining_ = 0, exactParts_ = 0, running_ = 0;
