@@ -70,7 +70,7 @@ class HapticGraspDocument(unittest.TestCase):
 
     def make_session(self, lift=True, **script):
         self.session = hs.HapticSession(self.doc)
-        self.assertEqual([o.Name for o in self.session.objects], ["Cylinder", "Block"])
+        self.assertEqual([r.obj.Name for r in self.session.parts], ["Cylinder", "Block"])
         mass = self.session.core.part_info(0)["mass_kg"]
         self.assertAlmostEqual(mass, 2.0, places=6)
         keys, frame = hs.demo_script(self.cylinder, lift=lift, **script)
@@ -151,7 +151,7 @@ class HapticGraspDocument(unittest.TestCase):
         hidden.Shape = Part.makeBox(10, 10, 10)
         hidden.Visibility = False
         self.session = hs.HapticSession(self.doc)
-        self.assertEqual([o.Name for o in self.session.objects], ["Cylinder", "Block"])
+        self.assertEqual([r.obj.Name for r in self.session.parts], ["Cylinder", "Block"])
         self.assertEqual(len(self.session.messages), 1, self.session.messages)
         self.assertIn("Sheet", self.session.messages[0])
         self.assertIn("not a solid", self.session.messages[0])
@@ -293,7 +293,7 @@ class HapticGraspDocument(unittest.TestCase):
         self.doc.recompute()
         first = hs.HapticSession(self.doc)
         self.session = first
-        index = [o.Name for o in first.objects].index("Tube")
+        index = [r.obj.Name for r in first.parts].index("Tube")
         keys, frame = hs.demo_script(tube, lift=False)
         first.use_hand_script(keys, frame)
         first.start()
@@ -304,7 +304,7 @@ class HapticGraspDocument(unittest.TestCase):
         tube.Radius = 30.0
         self.doc.recompute()
         self.session = second = hs.HapticSession(self.doc)
-        big = second.core.part_info([o.Name for o in second.objects].index("Tube"))["volume_mm3"]
+        big = second.core.part_info([r.obj.Name for r in second.parts].index("Tube"))["volume_mm3"]
         print("tube volume %.0f -> %.0f mm^3" % (small, big))
         self.assertAlmostEqual(big, tube.Shape.Volume, delta=1e-3 * tube.Shape.Volume)
         self.assertAlmostEqual(big / small, 2.25, delta=0.01)
@@ -366,7 +366,7 @@ class PartsIntoTheSession(unittest.TestCase):
         self.assertGreater(polls, 10)
         self.assertIn("Extra0", names)
         self.assertEqual(s.core.part_count(), 6)
-        self.assertEqual([o.Name for o in s.objects], ["Cylinder", "Block", "Extra0", "Extra1", "Extra2", "Extra3"])
+        self.assertEqual([r.obj.Name for r in s.parts], ["Cylinder", "Block", "Extra0", "Extra1", "Extra2", "Extra3"])
         self.assertEqual(s.messages, [])
 
     def test_cancel_leaves_no_half_built_session(self):
@@ -381,7 +381,7 @@ class PartsIntoTheSession(unittest.TestCase):
         self.assertTrue(s.cancelled)
         self.assertFalse(s.ready)
         self.assertTrue(s.poll_build())
-        self.assertEqual(s.objects, [])
+        self.assertEqual(s.parts, [])
         self.assertEqual(s.core.part_count(), 0)
         with self.assertRaises(RuntimeError):
             s.start()
@@ -403,7 +403,7 @@ class PartsIntoTheSession(unittest.TestCase):
         s = self.session = hs.HapticSession(self.doc, wait=False)
         self.assertTrue(s.build.wait(120))
         self.assertTrue(s.poll_build())
-        self.assertEqual([o.Name for o in s.objects], ["Cylinder", "Block"])
+        self.assertEqual([r.obj.Name for r in s.parts], ["Cylinder", "Block"])
         self.assertEqual(s.core.part_count(), 2)
         self.assertEqual(len(s.messages), 1, s.messages)
         print("bad part: %s" % s.messages[0])
@@ -415,7 +415,7 @@ class PartsIntoTheSession(unittest.TestCase):
         tube.Placement = App.Placement(App.Vector(0, 500, 0), App.Rotation())
         self.doc.recompute()
         s = self.session = hs.HapticSession(self.doc)
-        names = [o.Name for o in s.objects]
+        names = [r.obj.Name for r in s.parts]
         self.assertEqual(names, ["Cylinder", "Block", "Tube"])
         index = names.index("Tube")
         self.assertAlmostEqual(s.core.part_info(index)["bounds_mm"][1][0], 20.0, delta=1e-6)
@@ -464,7 +464,7 @@ class PartsIntoTheSession(unittest.TestCase):
         body.Placement = App.Placement(App.Vector(0, 700, 0), App.Rotation(App.Vector(0, 0, 1), 30))
         self.doc.recompute()
         s = self.session = hs.HapticSession(self.doc)
-        self.assertEqual([o.Name for o in s.objects], ["Cylinder", "Block", "Body"])
+        self.assertEqual([r.obj.Name for r in s.parts], ["Cylinder", "Block", "Body"])
         self.assertAlmostEqual(s.core.part_info(2)["bounds_mm"][1][0], 40.0, delta=1e-6)
         s.use_hand_input(hold_s=0.5)
         far = ((0.0, -900.0, 0.0), (0.0, -950.0, 0.0), (0.0, -925.0, 100.0))
@@ -522,7 +522,7 @@ class PartsIntoTheSession(unittest.TestCase):
         self.assertTrue(hs.same_placement(self.cylinder.getGlobalPlacement(), wanted, 1e-9))
         local_before = App.Placement(self.cylinder.Placement)
         self.session = s = hs.HapticSession(self.doc)
-        self.assertEqual([o.Name for o in s.objects], ["Cylinder"])   # the App::Parts are no parts
+        self.assertEqual([r.obj.Name for r in s.parts], ["Cylinder"])   # the App::Parts are no parts
         self.assertAlmostEqual(s.core.part_info(0)["mass_kg"], 2.0, places=6)
         # The core has the global placement.
         self.assertTrue(hs.same_placement(hs.to_placement(s.core.snapshot()["placements"][0]), wanted, 1e-6))
@@ -554,7 +554,7 @@ class PartsIntoTheSession(unittest.TestCase):
     def test_only_marked_parts_are_handed_in_once_any_is_marked(self):
         def handed():
             messages = []
-            return [o.Name for o in hs.collect_solids(self.doc, messages)], messages
+            return [r.obj.Name for r in hs.collect_solids(self.doc, messages)], messages
 
         self.assertEqual(handed(), (["Cylinder", "Block"], []))
         hs.set_graspable([self.block])
@@ -562,7 +562,7 @@ class PartsIntoTheSession(unittest.TestCase):
         self.assertFalse(hs.is_graspable(self.cylinder))
         self.assertEqual(handed(), (["Block"], []))
         self.session = s = hs.HapticSession(self.doc)
-        self.assertEqual([o.Name for o in s.objects], ["Block"])
+        self.assertEqual([r.obj.Name for r in s.parts], ["Block"])
         self.assertEqual(s.core.part_count(), 1)
         # A marked part that is hidden, or not a solid, is named in the report view.
         sheet = self.doc.addObject("Part::Feature", "Sheet")
@@ -595,7 +595,7 @@ class PartsIntoTheSession(unittest.TestCase):
         hidden.Visibility = False
         self.doc.recompute()
         messages = []
-        names = [o.Name for o in hs.collect_solids(self.doc, messages)]
+        names = [r.obj.Name for r in hs.collect_solids(self.doc, messages)]
         self.assertEqual(names, ["Cylinder", "Block", "Body"])   # not the Box feature, not the App::Parts
         self.assertEqual(messages, [])
 
@@ -641,7 +641,7 @@ class PartReports(unittest.TestCase):
         self.assertFalse(loop.isValid())
         self.add("Loop", loop, 0)
         s = self.open_session()
-        self.assertEqual([o.Name for o in s.objects], ["Cylinder", "Block", "Loop"])
+        self.assertEqual([r.obj.Name for r in s.parts], ["Cylinder", "Block", "Loop"])
         self.assertEqual(s.messages, [])   # loaded, not skipped
         said = [r for r in s.part_reports if r.startswith("Loop: ")]
         self.assertEqual(len(said), 1, s.part_reports)
@@ -657,7 +657,7 @@ class PartReports(unittest.TestCase):
         self.add("Touching", touching, 0)
         self.add("Overlapping", overlapping, 100)
         s = self.open_session()
-        self.assertEqual([o.Name for o in s.objects], ["Cylinder", "Block", "Touching", "Overlapping"])
+        self.assertEqual([r.obj.Name for r in s.parts], ["Cylinder", "Block", "Touching", "Overlapping"])
         self.assertIn("Touching: exact: valid B-rep", s.part_reports)
         self.assertFalse([r for r in s.part_reports if r.startswith("Touching: ") and "overlap" in r], s.part_reports)
         said = [r for r in s.part_reports if r.startswith("Overlapping: ") and "overlap" in r]
@@ -672,7 +672,7 @@ class PartReports(unittest.TestCase):
         self.assertEqual(len(shape.Solids), 18)
         self.add("AS1", shape, 0)
         s = self.open_session()
-        self.assertEqual([o.Name for o in s.objects], ["Cylinder", "Block", "AS1"])
+        self.assertEqual([r.obj.Name for r in s.parts], ["Cylinder", "Block", "AS1"])
         self.assertIn("AS1: exact: valid B-rep", s.part_reports)
         self.assertAlmostEqual(s.core.part_info(2)["volume_mm3"], shape.Volume, delta=1e-6 * shape.Volume)
 

@@ -208,11 +208,11 @@ class HapticGraspGui(unittest.TestCase):
             Gui.runCommand("HapticGrasp_MarkGraspable")
             self.assertTrue(hs.is_graspable(a))
             self.assertFalse(hs.is_graspable(b))
-            self.assertEqual([o.Name for o in hs.collect_solids(doc, [])], ["A"])
+            self.assertEqual([r.obj.Name for r in hs.collect_solids(doc, [])], ["A"])
             self.assertEqual(doc.UndoNames, ["Mark graspable"])
             Gui.runCommand("HapticGrasp_MarkGraspable")   # all selected marked: unmark
             self.assertFalse(hs.is_graspable(a))
-            self.assertEqual([o.Name for o in hs.collect_solids(doc, [])], ["A", "B"])
+            self.assertEqual([r.obj.Name for r in hs.collect_solids(doc, [])], ["A", "B"])
         finally:
             Gui.Selection.clearSelection()
             App.closeDocument(doc.Name)

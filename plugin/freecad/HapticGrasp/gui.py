@@ -80,12 +80,13 @@ class _HapticGraspController:
         session = cls.session
         if cls.panel is not None:
             cls.panel.set_building(False)
-        if not session.objects:
+        if not session.parts:
             App.Console.PrintError("HapticGrasp: no visible solid to grasp\n")
             cls.stop()
             return
-        selected = [o for o in getattr(cls, "selected", []) if o in session.objects]
-        target = selected[0] if selected else session.objects[0]
+        chosen = getattr(cls, "selected", [])
+        selected = [r for r in session.parts if r.obj in chosen or r.leaf in chosen]
+        target = selected[0] if selected else session.parts[0]
         view = getattr(Gui.ActiveDocument, "ActiveView", None) if Gui.ActiveDocument else None
         if cls.device in ("mouse", "arm") and view is not None and hasattr(view, "addEventCallbackPivy"):
             # A hand fed from Python: the mouse and keyboard move a MouseHand, the timer
@@ -131,16 +132,16 @@ class _HapticGraspController:
             except Exception as e:  # no pivy: run without the overlay
                 App.Console.PrintWarning("HapticGrasp: no 3D overlay: %s\n" % e)
                 cls.overlay = None
-        App.Console.PrintMessage("HapticGrasp: started with %d part(s)\n" % len(session.objects))
+        App.Console.PrintMessage("HapticGrasp: started with %d part(s)\n" % len(session.parts))
 
     @classmethod
     def _use_hid_device(cls, session, target):
         """Opens the picked SpaceMouse / HID device for `session`, its hand starting above
-        `target` (a SpaceMouse: grip centre half the part's size + 20 mm above its centre,
+        `target` (a PartRef; a SpaceMouse: grip centre half the part's size + 20 mm above its centre,
         open wider than the part; a layout: the device frame's origin at the part's centre).
         False, with the reason in the report view and the panel, when it cannot be opened."""
         kind, path = cls.device.split(":", 1)
-        box = target.Shape.BoundBox
+        box = hs.global_bound_box(target)
         size = box.DiagonalLength
         try:
             if kind == "spacemouse":
