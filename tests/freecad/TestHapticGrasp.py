@@ -677,6 +677,345 @@ class PartReports(unittest.TestCase):
         self.assertAlmostEqual(s.core.part_info(2)["volume_mm3"], shape.Volume, delta=1e-6 * shape.Volume)
 
 
+def exact_box(shape):
+    """A shape's bounding box from its geometry (never from a display triangulation), as
+    (xmin, ymin, zmin, xmax, ymax, zmax)."""
+    b = shape.optimalBoundingBox(False)
+    return (b.XMin, b.YMin, b.ZMin, b.XMax, b.YMax, b.ZMax)
+
+
+def placed_box(shape, placement):
+    """exact_box of `shape` (its own frame) put at `placement`."""
+    moved = shape.copy()
+    moved.Placement = placement
+    return exact_box(moved)
+
+
+class Assemblies(unittest.TestCase):
+    """Parts as the 3D view shows them in assemblies: an App::Link is a part of its own and
+    a move writes the link's placement, not its target's; a link array is one part per
+    element and a move writes that element's placement; App::Part trees and App::LinkGroups
+    with nested links give every solid once, where the view shows it (global boxes compared
+    with placements composed here by hand); a PartDesign Body is one part; share_key is
+    equal for parts showing one source."""
+
+    setUp = HapticGraspDocument.setUp
+    tearDown = HapticGraspDocument.tearDown
+
+    def collect(self):
+        messages = []
+        return hs.collect_solids(self.doc, messages), messages
+
+    def assertBoxes(self, got, expected, tol=1e-6):
+        self.assertEqual(len(got), len(expected))
+        for a, b in zip(got, expected):
+            self.assertTrue(all(abs(x - y) <= tol for x, y in zip(a, b)), (a, b))
+
+    def carry(self, label, **script):
+        """A session whose demo hand grasps the part `label`, carries it (0, 100, 0) mm and
+        lets go; returns the stopped session."""
+        self.session = s = hs.HapticSession(self.doc)
+        target = [r for r in s.parts if r.label == label]
+        self.assertEqual(len(target), 1, [r.label for r in s.parts])
+        keys, frame = hs.demo_script(target[0], **script)
+        s.use_hand_script(keys, frame)
+        s.start()
+        states = run(s, s.core.script_duration() + 0.3)
+        s.stop()
+        self.assertIn("MANIPULATE", states)
+        self.assertEqual(states[-1], "FREE", states)
+        self.assertEqual(s.moves, 1)
+        return s
+
+    def cylinder_local(self):
+        shape = self.cylinder.Shape.copy()
+        shape.Placement = App.Placement()
+        return shape
+
+    def test_a_link_moved_by_a_session_writes_the_links_placement_not_its_sources(self):
+        source = App.Placement(self.cylinder.Placement)
+        self.cylinder.Visibility = False   # shown only through the link
+        link = self.doc.addObject("App::Link", "Link")
+        link.LinkedObject = self.cylinder
+        link.Placement = App.Placement(App.Vector(400, 300, 300), source.Rotation)
+        self.doc.recompute()
+        self.doc.clearUndos()
+        refs, messages = self.collect()
+        self.assertEqual([(r.label, r.obj.Name, r.source.Name) for r in refs],
+                         [("Block", "Block", "Block"), ("Link", "Link", "Cylinder")])
+        self.assertEqual(messages, [])
+        # The link shows its target's shape at the link's placement (LinkTransform off).
+        self.assertBoxes([exact_box(refs[1].global_shape())], [placed_box(self.cylinder_local(), link.Placement)])
+        before = App.Placement(link.Placement)
+        s = self.carry("Link")
+        self.assertAlmostEqual(s.core.part_info(1)["mass_kg"], 2.0, places=6)   # the target's density
+        moved = link.Placement.Base - before.Base
+        print("link: moved by (%.3f, %.3f, %.3f) mm" % (moved.x, moved.y, moved.z))
+        self.assertAlmostEqual(moved.x, 0.0, delta=0.5)
+        self.assertAlmostEqual(moved.y, 100.0, delta=0.5)
+        self.assertAlmostEqual(moved.z, 0.0, delta=0.5)
+        self.assertTrue(hs.same_placement(self.cylinder.Placement, source, 0.0), self.cylinder.Placement)
+        self.assertEqual(self.doc.UndoNames, ["Haptic move Link"])
+        self.doc.undo()
+        self.assertTrue(hs.same_placement(link.Placement, before, 1e-9), link.Placement)
+        # A target shown at the top level too is a part of its own, once.
+        self.cylinder.Visibility = True
+        self.assertEqual([r.label for r in self.collect()[0]], ["Cylinder", "Block", "Link"])
+
+    def check_link_array(self, show_element):
+        self.cylinder.Visibility = False
+        array = self.doc.addObject("App::Link", "Array")
+        array.LinkedObject = self.cylinder
+        array.ShowElement = show_element
+        array.ElementCount = 3
+        rotation = self.cylinder.Placement.Rotation
+        places = [App.Placement(App.Vector(400, 300 * (i + 1), 250), rotation) for i in range(3)]
+        if show_element:   # each element an object (App::LinkElement) with its own Placement
+            for element, place in zip(array.ElementList, places):
+                element.Placement = place
+        else:              # the elements' placements in the link's PlacementList
+            array.PlacementList = places
+        array.Placement = App.Placement(App.Vector(0, 0, 50), App.Rotation())   # carries every element
+        self.doc.recompute()
+        self.doc.clearUndos()
+
+        def element_places():
+            if show_element:
+                return [App.Placement(e.Placement) for e in array.ElementList]
+            return [App.Placement(p) for p in array.PlacementList]
+
+        self.assertEqual(len(array.ElementList), 3 if show_element else 0)
+        refs = [r for r in self.collect()[0] if r.obj == array]
+        self.assertEqual([(r.label, r.index) for r in refs], [("Array[0]", 0), ("Array[1]", 1), ("Array[2]", 2)])
+        self.assertBoxes([exact_box(r.global_shape()) for r in refs],
+                         [placed_box(self.cylinder_local(), array.Placement.multiply(p)) for p in places])
+        self.carry("Array[1]")
+        after = element_places()
+        moved = after[1].Base - places[1].Base
+        print("array element 1 (ShowElement %s): moved by (%.3f, %.3f, %.3f) mm"
+              % (show_element, moved.x, moved.y, moved.z))
+        self.assertAlmostEqual(moved.x, 0.0, delta=0.5)
+        self.assertAlmostEqual(moved.y, 100.0, delta=0.5)
+        self.assertAlmostEqual(moved.z, 0.0, delta=0.5)
+        for i in (0, 2):
+            self.assertTrue(hs.same_placement(after[i], places[i], 0.0), (i, after[i]))
+        self.assertTrue(hs.same_placement(array.Placement, App.Placement(App.Vector(0, 0, 50), App.Rotation()), 0.0))
+        self.assertEqual(self.doc.UndoNames, ["Haptic move Array[1]"])
+        self.doc.undo()
+        self.assertTrue(hs.same_placement(element_places()[1], places[1], 1e-9), element_places()[1])
+        # A hidden element is no part.
+        array.setElementVisible("2", False)
+        self.assertEqual([r.label for r in self.collect()[0] if r.obj == array], ["Array[0]", "Array[1]"])
+
+    def test_a_link_array_is_one_part_per_element_and_a_move_writes_its_placement_list_entry(self):
+        self.check_link_array(show_element=False)
+
+    def test_a_link_array_is_one_part_per_element_and_a_move_writes_its_element_object(self):
+        self.check_link_array(show_element=True)
+
+    def test_an_app_part_tree_gives_every_visible_solid_once_at_its_global_placement(self):
+        asm = self.doc.addObject("App::Part", "Asm")
+        asm.Placement = App.Placement(App.Vector(10, 20, 30), App.Rotation(App.Vector(0, 0, 1), 30))
+        sub = self.doc.addObject("App::Part", "Sub")
+        sub.Placement = App.Placement(App.Vector(0, 50, 0), App.Rotation(App.Vector(1, 0, 0), 45))
+        asm.addObject(sub)
+        box = self.doc.addObject("Part::Box", "Box")
+        box.Length, box.Width, box.Height = 10, 20, 30
+        box.Placement = App.Placement(App.Vector(5, 0, 0), App.Rotation(App.Vector(0, 1, 0), 10))
+        sub.addObject(box)
+        pin = self.doc.addObject("Part::Cylinder", "Pin")
+        pin.Placement = App.Placement(App.Vector(0, 0, 100), App.Rotation(App.Vector(0, 1, 0), 20))
+        asm.addObject(pin)
+        hidden = self.doc.addObject("App::Part", "Hidden")
+        hidden.Visibility = False
+        asm.addObject(hidden)
+        hidden.addObject(self.doc.addObject("Part::Box", "Inside"))
+        self.doc.recompute()
+        refs, messages = self.collect()
+        self.assertEqual([(r.label, r.obj.Name, r.index) for r in refs],
+                         [("Cylinder", "Cylinder", None), ("Block", "Block", None), ("Box", "Box", None),
+                          ("Pin", "Pin", None)])
+        self.assertEqual(messages, [])
+        self.assertBoxes([exact_box(r.global_shape()) for r in refs[2:]],
+                         [placed_box(Part.makeBox(10, 20, 30), asm.Placement.multiply(sub.Placement).multiply(box.Placement)),
+                          placed_box(Part.makeCylinder(2, 10), asm.Placement.multiply(pin.Placement))])
+        # A move writes the part's own Placement, relative to its containers.
+        wanted = App.Placement(App.Vector(-100, 40, 7), App.Rotation(App.Vector(1, 1, 0), 60))
+        refs[2].set_global_placement(wanted)
+        self.assertTrue(hs.same_placement(asm.Placement.multiply(sub.Placement).multiply(box.Placement), wanted, 1e-9))
+        self.assertTrue(hs.same_placement(refs[2].global_placement(), wanted, 1e-9))
+
+    def nested_link_groups(self):
+        """An assembly as FreeCAD's STEP importer makes it with links: a top LinkGroup holds a
+        plate and a link array of two instances of a hidden LinkGroup "Pair" (a bolt, a nut
+        hidden at the top level but shown in its group, and a link to a hidden washer)."""
+        V, R = App.Vector, App.Rotation
+        bolt = self.doc.addObject("Part::Cylinder", "Bolt")
+        bolt.Radius, bolt.Height = 3.0, 20.0
+        bolt.Placement = App.Placement(V(1, 2, 3), R(V(1, 0, 0), 90))
+        nut = self.doc.addObject("Part::Box", "Nut")
+        nut.Length, nut.Width, nut.Height = 6, 6, 4
+        nut.Placement = App.Placement(V(0, 0, 20), R())
+        nut.Visibility = False
+        washer = self.doc.addObject("Part::Cylinder", "Washer")
+        washer.Radius, washer.Height = 5.0, 1.0
+        washer.Placement = App.Placement(V(0, 0, 999), R())   # a link shows it at the link's placement
+        washer.Visibility = False
+        washer_link = self.doc.addObject("App::Link", "WasherLink")
+        washer_link.LinkedObject = washer
+        washer_link.Placement = App.Placement(V(0, 0, 24), R(V(0, 1, 0), 5))
+        pair = self.doc.addObject("App::LinkGroup", "Pair")
+        pair.ElementList = [bolt, nut, washer_link]
+        pair.Placement = App.Placement(V(0, 0, 500), R())   # replaced by each link's placement
+        pair.Visibility = False
+        pairs = self.doc.addObject("App::Link", "Pairs")
+        pairs.LinkedObject = pair
+        pairs.ShowElement = False
+        pairs.ElementCount = 2
+        pairs.PlacementList = [App.Placement(V(30, 0, 0), R()), App.Placement(V(80, 10, 0), R(V(0, 0, 1), 15))]
+        plate = self.doc.addObject("Part::Box", "Plate")
+        plate.Length, plate.Width, plate.Height = 120, 40, 5
+        top = self.doc.addObject("App::LinkGroup", "Top")
+        top.ElementList = [plate, pairs]
+        top.Placement = App.Placement(V(0, 600, 0), R(V(0, 0, 1), 90))
+        self.doc.recompute()
+        self.doc.clearUndos()
+        return top, pairs, bolt, nut, washer_link
+
+    def test_a_link_group_with_nested_links_gives_every_solid_once_at_its_global_placement(self):
+        top, pairs, bolt, nut, washer_link = self.nested_link_groups()
+        refs, messages = self.collect()
+        labels = [r.label for r in refs]
+        instance = ["Pairs[%d]/%s" % (i, n) for i in (0, 1) for n in ("Bolt", "Nut", "WasherLink")]
+        self.assertEqual(labels, ["Cylinder", "Block", "Plate"] + instance)
+        bolt_local, nut_local = Part.makeCylinder(3, 20), Part.makeBox(6, 6, 4)
+        washer_local = Part.makeCylinder(5, 1)
+        expected = [placed_box(Part.makeBox(120, 40, 5), top.Placement)]
+        for q in pairs.PlacementList:
+            at = top.Placement.multiply(q)
+            expected += [placed_box(bolt_local, at.multiply(bolt.Placement)), placed_box(nut_local, at.multiply(nut.Placement)),
+                         placed_box(washer_local, at.multiply(washer_link.Placement))]
+        self.assertBoxes([exact_box(r.global_shape()) for r in refs[2:]], expected)
+        # Each instance's parts are written through the array element they are shown by.
+        self.assertEqual([(r.obj.Name, r.index) for r in refs[3:]], [("Pairs", 0)] * 3 + [("Pairs", 1)] * 3)
+        self.assertEqual(messages, ["Pairs[0]: its 3 parts are one linked instance in the document, moving one "
+                                    "moves them all",
+                                    "Pairs[1]: its 3 parts are one linked instance in the document, moving one "
+                                    "moves them all"])
+        # The bolt of instance 1 moved: that instance's entry of PlacementList changes; the
+        # shared bolt, the other instance and the group stay.
+        bolt1, nut1 = refs[6], refs[7]
+        shift = App.Placement(App.Vector(0, 0, 40), App.Rotation(App.Vector(0, 0, 1), 30), App.Vector(0, 600, 0))
+        wanted = shift.multiply(bolt1.global_placement())
+        nut_wanted = shift.multiply(nut1.global_placement())
+        first = App.Placement(pairs.PlacementList[0])
+        bolt_own = App.Placement(bolt.Placement)
+        bolt1.set_global_placement(wanted)
+        self.assertTrue(hs.same_placement(bolt1.global_placement(), wanted, 1e-9))
+        self.assertTrue(hs.same_placement(nut1.global_placement(), nut_wanted, 1e-9))
+        self.assertTrue(hs.same_placement(pairs.PlacementList[0], first, 0.0))
+        self.assertTrue(hs.same_placement(bolt.Placement, bolt_own, 0.0))
+        self.assertBoxes([exact_box(r.global_shape()) for r in refs[3:6]], expected[1:4])
+
+    def linked_instance(self):
+        """The cylinder and a cap 250 mm above it in a hidden LinkGroup shown by one link."""
+        cap = self.doc.addObject("Part::Box", "Cap")
+        cap.Placement = App.Placement(App.Vector(390, -10, 550), App.Rotation())
+        pair = self.doc.addObject("App::LinkGroup", "Pair")
+        pair.ElementList = [self.cylinder, cap]
+        pair.Visibility = False
+        unit = self.doc.addObject("App::Link", "Unit")
+        unit.LinkedObject = pair
+        unit.Placement = App.Placement(App.Vector(0, 0, 0), App.Rotation())
+        self.doc.recompute()
+        self.doc.clearUndos()
+        return unit
+
+    def test_a_part_inside_a_linked_instance_carries_the_instance_and_the_core_catches_up(self):
+        unit = self.linked_instance()
+        own = App.Placement(self.cylinder.Placement)
+        s = self.carry("Unit/Cylinder")
+        self.assertEqual([r.label for r in s.parts], ["Block", "Unit/Cylinder", "Unit/Cap"])
+        moved = unit.Placement.Base
+        print("linked instance: the link moved by (%.3f, %.3f, %.3f) mm" % (moved.x, moved.y, moved.z))
+        self.assertAlmostEqual(moved.y, 100.0, delta=0.5)
+        self.assertAlmostEqual(moved.x, 0.0, delta=0.5)
+        self.assertTrue(hs.same_placement(self.cylinder.Placement, own, 0.0))   # the shared object stays
+        self.assertEqual(self.doc.UndoNames, ["Haptic move Unit/Cylinder"])
+        # The cap moved with its instance in the document; once released the session put it
+        # there in the core too (one restart).
+        self.assertEqual(s.restarts, 1, s.messages)
+        cap_core = hs.to_placement(s.core.snapshot()["placements"][2])
+        self.assertTrue(hs.same_placement(cap_core, s.parts[2].global_placement(), 1e-6))
+        self.assertIn("Unit/Cap moved in the document: haptics restarted with the parts where the document has them",
+                      s.messages)
+
+    def test_a_manipulation_of_a_linked_instance_between_two_ticks_is_one_undo_step(self):
+        # A GUI busy for the whole manipulation: the link is written once, for the part that
+        # moved in the core; its instance's other part follows it in the document.
+        self.linked_instance()
+        s = self.session = hs.HapticSession(self.doc)
+        keys, frame = hs.demo_script([r for r in s.parts if r.label == "Unit/Cylinder"][0])
+        s.use_hand_script(keys, frame)
+        s.start()
+        time.sleep(s.core.script_duration() + 0.3)
+        snap = s.tick()
+        s.stop()
+        self.assertEqual(snap["state"], "FREE")
+        self.assertIn("release", snap["event_names"])
+        self.assertAlmostEqual(self.doc.getObject("Unit").Placement.Base.y, 100.0, delta=0.5)
+        self.assertEqual(self.doc.UndoNames, ["Haptic move Unit/Cylinder"])
+
+    def test_a_partdesign_body_is_one_part_and_a_link_to_it_another(self):
+        body = self.doc.addObject("PartDesign::Body", "Body")
+        pad = self.doc.addObject("PartDesign::AdditiveBox", "Pad")
+        body.addObject(pad)
+        hole = self.doc.addObject("PartDesign::SubtractiveCylinder", "Hole")
+        body.addObject(hole)
+        pad.Length, pad.Width, pad.Height = 40.0, 30.0, 20.0
+        hole.Radius, hole.Height = 5.0, 20.0
+        hole.Placement = App.Placement(App.Vector(20, 15, 0), App.Rotation())
+        holder = self.doc.addObject("App::Part", "Holder")
+        holder.Placement = App.Placement(App.Vector(0, 800, 0), App.Rotation(App.Vector(0, 0, 1), 30))
+        holder.addObject(body)
+        body.Placement = App.Placement(App.Vector(10, 0, 0), App.Rotation())
+        link = self.doc.addObject("App::Link", "BodyLink")
+        link.LinkedObject = body
+        link.Placement = App.Placement(App.Vector(0, -800, 0), App.Rotation())
+        self.doc.recompute()
+        refs, messages = self.collect()
+        self.assertEqual([(r.label, r.obj.Name) for r in refs],
+                         [("Cylinder", "Cylinder"), ("Block", "Block"), ("Body", "Body"), ("BodyLink", "BodyLink")])
+        self.assertEqual(messages, [])
+        local = body.Shape.copy()
+        local.Placement = App.Placement()
+        self.assertEqual(len(local.Solids), 1)
+        self.assertBoxes([exact_box(r.global_shape()) for r in refs[2:]],
+                         [placed_box(local, holder.Placement.multiply(body.Placement)), placed_box(local, link.Placement)])
+        self.assertEqual(hs.share_key(refs[2]), hs.share_key(refs[3]))
+
+    def test_share_key_is_equal_for_parts_showing_one_source_and_different_otherwise(self):
+        def link(name, target):
+            obj = self.doc.addObject("App::Link", name)
+            obj.LinkedObject = target
+            obj.Placement = App.Placement(App.Vector(0, 200 * len(self.doc.Objects), 0), App.Rotation())
+            return obj
+
+        link("A", self.cylinder)
+        link("B", self.cylinder)
+        link("C", self.doc.getObject("B"))   # a link to a link: the same source
+        link("D", self.block)
+        twin = self.doc.addObject("Part::Feature", "Twin")   # the same geometry, another object
+        twin.Shape = self.cylinder.Shape
+        self.doc.recompute()
+        keys = {r.label: hs.share_key(r) for r in self.collect()[0]}
+        self.assertEqual(sorted(keys), ["A", "B", "Block", "C", "Cylinder", "D", "Twin"])
+        self.assertTrue(all(isinstance(k, str) for k in keys.values()))
+        self.assertEqual(len({keys["Cylinder"], keys["A"], keys["B"], keys["C"]}), 1)
+        self.assertEqual(keys["D"], keys["Block"])
+        self.assertEqual(len({keys["Cylinder"], keys["Block"], keys["Twin"]}), 3)
+
+
 class ForceParameters(unittest.TestCase):
     """The force parameters of the preferences page reach the core at start()."""
 

@@ -748,18 +748,15 @@ class HapticSession:
             self._begin(grasped)
             self._apply(snap)
         elif self.active is None and {"lift", "release"} <= events:
-            # A whole manipulation between two ticks: move what moved, one step each. Parts
-            # of one linked instance share its link: written once (the others follow it).
+            # A whole manipulation between two ticks: move what moved, one step each. What
+            # moved is read before anything is written: a part of a linked instance moves
+            # the other parts of its instance in the document, not in the core.
             moved = [index for index, ref in enumerate(self.parts)
                      if not same_placement(to_placement(snap["placements"][index]), ref.global_placement())]
-            written = set()
             for index in moved:
-                ref = self.parts[index]
-                if (ref.obj, ref.index) not in written:
-                    written.add((ref.obj, ref.index))
-                    self._begin(index)
-                    self._apply(snap)
-                    self._commit()
+                self._begin(index)
+                self._apply(snap)
+                self._commit()
         self.state = state
         if self.core.running:
             self._watch_edits(state, snap)
