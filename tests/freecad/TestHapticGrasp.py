@@ -678,9 +678,9 @@ class PartReports(unittest.TestCase):
 
 
 def exact_box(shape):
-    """A shape's bounding box from its geometry (never from a display triangulation), as
-    (xmin, ymin, zmin, xmax, ymax, zmax)."""
-    b = shape.optimalBoundingBox(False)
+    """A shape's bounding box from its geometry, as (xmin, ymin, zmin, xmax, ymax, zmax): on
+    a copy, which has no triangulation (optimalBoundingBox(False) still used one in 0.20.2)."""
+    b = shape.copy().optimalBoundingBox()
     return (b.XMin, b.YMin, b.ZMin, b.XMax, b.YMax, b.ZMax)
 
 
@@ -1014,6 +1014,70 @@ class Assemblies(unittest.TestCase):
         self.assertEqual(len({keys["Cylinder"], keys["A"], keys["B"], keys["C"]}), 1)
         self.assertEqual(keys["D"], keys["Block"])
         self.assertEqual(len({keys["Cylinder"], keys["Block"], keys["Twin"]}), 3)
+
+
+class SplitIntoSolids(unittest.TestCase):
+    """An object holding several solids is one rigid part and the report view says how to
+    split it; split_solids makes one object per solid in one undo step."""
+
+    setUp = HapticGraspDocument.setUp
+    tearDown = HapticGraspDocument.tearDown
+
+    def test_the_as1_step_read_as_one_shape_is_one_part_of_18_solids_and_splits_into_18_in_one_undo_step(self):
+        shape = Part.Shape()   # Import.insert() of this file segfaults under freecadcmd
+        shape.read(os.path.join(os.environ.get("HG_TEST_DATA_DIR", ""), "as1-oc-214.stp"))
+        self.assertEqual(len(shape.Solids), 18)
+        holder = self.doc.addObject("App::Part", "Holder")
+        holder.Placement = App.Placement(App.Vector(0, 900, 40), App.Rotation(App.Vector(1, 2, 3), 25))
+        as1 = self.doc.addObject("Part::Feature", "AS1")
+        as1.Shape = shape
+        as1.Placement = App.Placement(App.Vector(30, 0, 0), App.Rotation(App.Vector(0, 0, 1), 10))
+        holder.addObject(as1)
+        as1.addProperty("App::PropertyFloat", hs.DENSITY_PROPERTY, "Haptic")
+        setattr(as1, hs.DENSITY_PROPERTY, 7850.0)
+        twins = self.doc.addObject("Part::Feature", "Twins")   # split in the same step
+        twins.Shape = Part.makeCompound([Part.makeBox(5, 5, 5), Part.makeBox(5, 5, 5, App.Vector(20, 0, 0))])
+        twins.Placement = App.Placement(App.Vector(0, -900, 0), App.Rotation())
+        hs.set_graspable([as1])
+        self.doc.recompute()
+        self.doc.clearUndos()
+        messages = []
+        refs = hs.collect_solids(self.doc, messages)
+        self.assertEqual([r.label for r in refs], ["AS1"])
+        self.assertEqual(len(refs[0].shape().Solids), 18)
+        self.assertEqual(messages, ["AS1 holds 18 solids, carried as one rigid part; HapticGrasp > Split into "
+                                    "solids makes each graspable"])
+        where = shape.copy()
+        where.Placement = holder.Placement.multiply(as1.Placement)
+        expected = sorted(exact_box(s) for s in where.Solids)
+
+        before = sorted(o.Name for o in self.doc.Objects)
+        made = hs.split_solids([as1, self.block, twins])   # the block holds one solid: left alone
+        self.assertEqual([o.Label for o in made], ["AS1 solid %d" % n for n in range(1, 19)] + ["Twins solid 1",
+                                                                                                "Twins solid 2"])
+        self.assertEqual([exact_box(o.Shape)[:2] for o in made[18:]], [(0.0, -900.0), (20.0, -900.0)])
+        self.assertFalse(twins.Visibility)
+        made = made[:18]
+        self.assertEqual(self.doc.UndoNames, ["Split into solids"])
+        self.assertFalse(as1.Visibility)
+        self.assertFalse(hs.is_graspable(as1))
+        for piece in made:
+            self.assertEqual(piece.getParentGeoFeatureGroup(), holder)
+            self.assertEqual(getattr(piece, hs.DENSITY_PROPERTY), 7850.0)
+            self.assertTrue(hs.is_graspable(piece))
+            self.assertEqual(len(piece.Shape.Solids), 1)
+        messages = []
+        refs = hs.collect_solids(self.doc, messages)
+        self.assertEqual([r.label for r in refs], [o.Label for o in made])
+        self.assertEqual(messages, [])
+        got = sorted(exact_box(r.global_shape()) for r in refs)
+        Assemblies.assertBoxes(self, got, expected)
+
+        self.doc.undo()   # one step brings back the two objects split
+        self.assertEqual(sorted(o.Name for o in self.doc.Objects), before)
+        self.assertTrue(as1.Visibility and twins.Visibility)
+        self.assertTrue(hs.is_graspable(as1))
+        self.assertEqual([r.label for r in hs.collect_solids(self.doc, [])], ["AS1"])
 
 
 class ForceParameters(unittest.TestCase):

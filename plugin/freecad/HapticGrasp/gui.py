@@ -1,10 +1,13 @@
-"""GUI of the HapticGrasp workbench: Start/Stop commands and the QTimer that drives
-HapticSession.tick() on the GUI thread (InitGui.py imports this from Initialize())."""
+"""GUI of the HapticGrasp workbench: the Start/Stop, Mark graspable and Split into solids commands, and the
+QTimer that drives HapticSession.tick() on the GUI thread (InitGui.py imports this from Initialize())."""
 import FreeCAD as App
 import FreeCADGui as Gui
+from FreeCAD import Qt
 
 from . import session as hs
 from . import sounds as hsounds
+
+QT_TRANSLATE_NOOP = Qt.QT_TRANSLATE_NOOP   # marks command texts for translation (FreeCAD's convention)
 
 
 class _HapticGraspController:
@@ -448,6 +451,30 @@ class _MarkGraspableCommand:
                                                             ", ".join(o.Label for o in objects)))
 
 
+class _SplitSolidsCommand:
+    """Splits each selected object whose shape holds several solids (a STEP assembly read
+    as one compound) into one object per solid, so that each can be grasped on its own:
+    one undo step; the originals are hidden, not deleted (session.split_solids)."""
+
+    def GetResources(self):
+        return {"MenuText": QT_TRANSLATE_NOOP("HapticGrasp_SplitSolids", "Split into solids"),
+                "ToolTip": QT_TRANSLATE_NOOP("HapticGrasp_SplitSolids",
+                                             "Make one object per solid of the selected objects (the originals "
+                                             "are hidden), so that each solid can be grasped on its own")}
+
+    def IsActive(self):
+        return any(hs.solid_count(o) > 1 for o in Gui.Selection.getSelection())
+
+    def Activated(self):
+        selected = [o for o in Gui.Selection.getSelection() if hs.solid_count(o) > 1]
+        if not selected:
+            App.Console.PrintWarning("HapticGrasp: select an object whose shape holds several solids\n")
+            return
+        made = hs.split_solids(selected)
+        App.Console.PrintMessage("HapticGrasp: split %s into %d objects, one per solid (the original hidden)\n"
+                                 % (", ".join(o.Label for o in selected), len(made)))
+
+
 _registered = False
 
 
@@ -457,5 +484,6 @@ def register():
         Gui.addCommand("HapticGrasp_Start", _StartCommand())
         Gui.addCommand("HapticGrasp_Stop", _StopCommand())
         Gui.addCommand("HapticGrasp_MarkGraspable", _MarkGraspableCommand())
+        Gui.addCommand("HapticGrasp_SplitSolids", _SplitSolidsCommand())
         _registered = True
-    return ["HapticGrasp_Start", "HapticGrasp_Stop", "HapticGrasp_MarkGraspable"]
+    return ["HapticGrasp_Start", "HapticGrasp_Stop", "HapticGrasp_MarkGraspable", "HapticGrasp_SplitSolids"]

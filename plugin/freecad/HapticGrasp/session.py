@@ -25,6 +25,7 @@ DEFAULT_DENSITY_KG_M3 = 1000.0
 DENSITY_PROPERTY = "HapticDensity"   # kg/m^3, per part (App::PropertyFloat)
 GRASPABLE_PROPERTY = "HapticGraspable"   # App::PropertyBool; see collect_solids()
 HOLDING = ("GRASP", "MANIPULATE")
+SPLIT_COMMAND_PATH = "HapticGrasp > Split into solids"   # gui.py's HapticGrasp_SplitSolids, as the menu shows it
 
 # Force parameters (SI), set in the preferences page "Haptic Grasp" and read at start().
 PARAMETER_PATH = "User parameter:BaseApp/Preferences/Mod/HapticGrasp"
@@ -365,7 +366,8 @@ def collect_solids(doc, messages):
     parts whose object, leaf or source is marked. A hidden container hides its children;
     a link array's hidden elements are hidden. Anything else asked for that is not a
     solid is skipped with one report-view line; so is a marked object shown nowhere. An
-    object holding several solids is one rigid part."""
+    object holding several solids is one rigid part, and the report view says once how to
+    split it (split_solids)."""
     walked = []
     for root in _top_level(doc):
         _walk(root, walked)
@@ -375,6 +377,7 @@ def collect_solids(doc, messages):
         return any(is_graspable(o) for o in (ref.obj, ref.leaf, ref.source))
 
     found = []
+    several = set()   # sources said to hold several solids
     for ref, shown in walked:
         if not shown or (marked and not is_marked(ref)):
             continue
@@ -397,6 +400,10 @@ def collect_solids(doc, messages):
         if abs(ref.root.getSubObject(ref.subname, retType=4).determinant() - 1.0) > 1e-9:
             _warn(messages, "skipping %s: a scaled or mirrored link is not a rigid copy" % ref.label)
             continue
+        if len(shape.Solids) > 1 and ref.source not in several:
+            several.add(ref.source)
+            _note(messages, "%s holds %d solids, carried as one rigid part; %s makes each graspable"
+                  % (ref.label, len(shape.Solids), SPLIT_COMMAND_PATH))
         found.append(ref)
     for obj in marked:
         if not any(obj in (r.obj, r.leaf, r.source) for r in found) and \
@@ -417,6 +424,58 @@ def _say_shared_instances(refs, messages):
             name = obj.Label if index is None else "%s[%d]" % (obj.Label, index)
             _note(messages, "%s: its %d parts are one linked instance in the document, moving one moves them all"
                   % (name, len(group)))
+
+
+def solid_count(obj):
+    """How many solids obj's Shape holds (0 for an object without a Shape)."""
+    shape = getattr(obj, "Shape", None)
+    return 0 if shape is None else len(shape.Solids)
+
+
+def split_solids(objects):
+    """Splits each object whose shape holds several solids into one new Part::Feature per
+    solid ("<label> solid N", in the same container, each solid where it was; the density
+    and the graspable mark carried over), and hides the original (it is kept, unmarked).
+    One transaction ("Split into solids"): one undo step. Returns the new objects."""
+    objects = [o for o in objects if solid_count(o) > 1]
+    if not objects:
+        return []
+    doc = objects[0].Document
+    made = []
+    doc.openTransaction("Split into solids")
+    try:
+        for obj in objects:
+            made += _split(obj)
+    except Exception:
+        doc.abortTransaction()
+        raise
+    doc.commitTransaction()
+    return made
+
+
+def _split(obj):
+    doc = obj.Document
+    container = obj.getParentGroup() or obj.getParentGeoFeatureGroup()   # a folder, an App::Part
+    groups = [g for g in obj.InList if g.isDerivedFrom("App::LinkGroup") and obj in g.ElementList]
+    made = []
+    for n, solid in enumerate(obj.Shape.Solids, 1):
+        piece = doc.addObject("Part::Feature", obj.Name + "_solid")
+        piece.Label = "%s solid %d" % (obj.Label, n)
+        piece.Shape = solid   # in obj's container's frame: its Placement becomes the piece's
+        for prop in (DENSITY_PROPERTY, GRASPABLE_PROPERTY):
+            if hasattr(obj, prop):
+                piece.addProperty(obj.getTypeIdOfProperty(prop), prop, "Haptic", obj.getDocumentationOfProperty(prop))
+                setattr(piece, prop, getattr(obj, prop))
+        made.append(piece)
+    if container is not None:
+        for piece in made:
+            container.addObject(piece)
+    for group in groups:
+        group.ElementList = list(group.ElementList) + made
+    if hasattr(obj, GRASPABLE_PROPERTY):
+        setattr(obj, GRASPABLE_PROPERTY, False)
+    obj.Visibility = False
+    return made
 
 
 # Cancelled ModelBuilds still finishing the part in progress. Dropping one waits for its
