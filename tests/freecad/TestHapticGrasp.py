@@ -994,6 +994,32 @@ class Assemblies(unittest.TestCase):
                          [placed_box(local, holder.Placement.multiply(body.Placement)), placed_box(local, link.Placement)])
         self.assertEqual(hs.share_key(refs[2]), hs.share_key(refs[3]))
 
+    def test_a_scaled_link_is_skipped_and_a_draft_link_array_is_one_part(self):
+        import Draft
+        scaled = self.doc.addObject("App::Link", "Scaled")
+        scaled.LinkedObject = self.block
+        scaled.ScaleVector = App.Vector(2, 2, 2)
+        array = self.doc.addObject("App::Link", "Array")
+        array.LinkedObject = self.cylinder
+        array.ElementCount = 2
+        array.ScaleList = [App.Vector(1, 1, 1), App.Vector(1, 1, -1)]   # element 1 mirrored
+        # Draft's link array: its element placements are computed from its parameters
+        # (PlacementList is read-only), so the array is one rigid part with one Placement.
+        draft = Draft.make_ortho_array(self.block, v_x=App.Vector(150, 0, 0), v_y=App.Vector(0, 150, 0),
+                                       v_z=App.Vector(0, 0, 150), n_x=3, n_y=1, n_z=1, use_link=True)
+        self.doc.recompute()
+        refs, messages = self.collect()
+        self.assertEqual([(r.label, r.obj.Name, r.index) for r in refs],
+                         [("Cylinder", "Cylinder", None), ("Block", "Block", None), ("Array[0]", "Array", 0),
+                          (draft.Label, draft.Name, None)])
+        self.assertEqual(messages, ["skipping Scaled: a link scales it, so it is not a rigid copy of its source",
+                                    "skipping Array[1]: a link scales it, so it is not a rigid copy of its source",
+                                    "%s holds 3 solids, carried as one rigid part; HapticGrasp > Split into solids "
+                                    "makes each graspable" % draft.Label])
+        wanted = App.Placement(App.Vector(0, -700, 0), App.Rotation(App.Vector(0, 0, 1), 90))
+        refs[3].set_global_placement(refs[3].global_placement().multiply(wanted))
+        self.assertTrue(hs.same_placement(draft.Placement, wanted, 1e-9), draft.Placement)
+
     def test_share_key_is_equal_for_parts_showing_one_source_and_different_otherwise(self):
         def link(name, target):
             obj = self.doc.addObject("App::Link", name)

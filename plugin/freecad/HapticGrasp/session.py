@@ -302,6 +302,22 @@ def _top_level(doc):
     return [o for o in doc.Objects if o not in claimed and not o.isDerivedFrom("App::LinkElement")]
 
 
+def _scales(link, index=None):
+    """Whether a link (or its array element `index`) scales or mirrors what it shows: its
+    ScaleVector, the element's ScaleList entry or element object's ScaleVector."""
+    def off(scale):
+        return scale is not None and (App.Vector(scale) - App.Vector(1, 1, 1)).Length > 1e-12
+
+    if off(getattr(link, "ScaleVector", None)):
+        return True
+    if index is None:
+        return False
+    scales = getattr(link, "ScaleList", [])
+    elements = getattr(link, "ElementList", [])
+    return (index < len(scales) and off(scales[index])) or \
+        (index < len(elements) and off(getattr(elements[index], "ScaleVector", None)))
+
+
 def _element_visible(parent, name, child):
     """Whether parent shows its child `name`: the parent's element visibility where it has
     one (App::LinkGroup, link arrays), else the child's Visibility."""
@@ -310,14 +326,15 @@ def _element_visible(parent, name, child):
 
 
 def _walk(root, found):
-    """Appends (PartRef, shown) for every part under the top-level object `root`, depth
-    first, hidden ones too (shown False): collect_solids() names marked parts hidden."""
+    """Appends (PartRef, shown, scaled) for every part under the top-level object `root`,
+    depth first, hidden ones too (shown False: collect_solids() names marked parts hidden);
+    scaled: a link on its path scales or mirrors it."""
 
     def label_of(prefix, obj, index=None):
         name = obj.Label if index is None else "%s[%d]" % (obj.Label, index)
         return name if prefix is None else prefix + "/" + name
 
-    def visit(obj, sub, parent, shown, writer, label, depth):
+    def visit(obj, sub, parent, shown, scaled, writer, label, depth):
         # obj is reached by `sub` from root; parent is the path to what holds it (None at
         # root). writer: (object, element index, its parent path) of the first link on the
         # path, None before one. label: the path's labels from the writer on, None before.
@@ -330,32 +347,34 @@ def _walk(root, found):
             count = getattr(obj, "ElementCount", 0) if obj.isDerivedFrom("App::Link") else 0
             for i in range(count):   # a link array: each element is an instance
                 visit_target(obj, target, sub + "%d." % i, shown and obj.isElementVisible(str(i)) != 0,
-                             writer or (obj, i, sub), label_of(label, obj, i), depth)
+                             scaled or _scales(obj, i), writer or (obj, i, sub), label_of(label, obj, i), depth)
             if not count:
-                visit_target(obj, target, sub, shown, writer or (obj, None, parent), label_of(label, obj), depth)
+                visit_target(obj, target, sub, shown, scaled or _scales(obj), writer or (obj, None, parent),
+                             label_of(label, obj), depth)
             return
         here = None if label is None else label_of(label, obj)
         children = _children(obj)
         for name, child in children:
-            visit(child, sub + name, sub, shown and _element_visible(obj, name[:-1], child), writer, here, depth + 1)
+            visit(child, sub + name, sub, shown and _element_visible(obj, name[:-1], child), scaled, writer, here,
+                  depth + 1)
         if not children:
-            add(sub, parent, obj, obj, shown, writer, here)
+            add(sub, parent, obj, obj, shown, scaled, writer, here)
 
-    def visit_target(link, target, sub, shown, writer, label, depth):
+    def visit_target(link, target, sub, shown, scaled, writer, label, depth):
         # What a link shows: the target's own Visibility does not count (the link shows it).
         children = [] if _is_link(target) else _children(target)
         for name, child in children:
-            visit(child, sub + name, sub, shown and _element_visible(target, name[:-1], child), writer, label,
-                  depth + 1)
+            visit(child, sub + name, sub, shown and _element_visible(target, name[:-1], child), scaled, writer,
+                  label, depth + 1)
         if not children:
-            add(sub, None, link, target, shown, writer, label)
+            add(sub, None, link, target, shown, scaled, writer, label)
 
-    def add(sub, parent, leaf, source, shown, writer, label):
+    def add(sub, parent, leaf, source, shown, scaled, writer, label):
         obj, index, parent = writer or (leaf, None, parent)
         found.append((PartRef(root, sub, obj, index, parent, leaf, source,
-                              leaf.Label if label is None else label), shown))
+                              leaf.Label if label is None else label), shown, scaled))
 
-    visit(root, "", None, bool(root.Visibility), None, None, 0)
+    visit(root, "", None, bool(root.Visibility), False, None, None, 0)
 
 
 def collect_solids(doc, messages):
@@ -378,7 +397,7 @@ def collect_solids(doc, messages):
 
     found = []
     several = set()   # sources said to hold several solids
-    for ref, shown in walked:
+    for ref, shown, scaled in walked:
         if not shown or (marked and not is_marked(ref)):
             continue
         if getattr(ref.source, "Shape", None) is None:
@@ -397,8 +416,8 @@ def collect_solids(doc, messages):
         if not shape.Solids and not shape.Shells:
             _warn(messages, "skipping %s: not a solid (%s), it cannot be grasped" % (ref.label, shape.ShapeType))
             continue
-        if abs(ref.root.getSubObject(ref.subname, retType=4).determinant() - 1.0) > 1e-9:
-            _warn(messages, "skipping %s: a scaled or mirrored link is not a rigid copy" % ref.label)
+        if scaled:
+            _warn(messages, "skipping %s: a link scales it, so it is not a rigid copy of its source" % ref.label)
             continue
         if len(shape.Solids) > 1 and ref.source not in several:
             several.add(ref.source)
@@ -407,7 +426,7 @@ def collect_solids(doc, messages):
         found.append(ref)
     for obj in marked:
         if not any(obj in (r.obj, r.leaf, r.source) for r in found) and \
-                any(obj in (r.obj, r.leaf, r.source) for r, shown in walked if not shown):
+                any(obj in (r.obj, r.leaf, r.source) for r, shown, _scaled in walked if not shown):
             _warn(messages, "skipping %s: marked graspable but hidden" % obj.Label)
     _say_shared_instances(found, messages)
     return found
