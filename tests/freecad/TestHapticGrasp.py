@@ -70,7 +70,7 @@ class HapticGraspDocument(unittest.TestCase):
 
     def make_session(self, lift=True, **script):
         self.session = hs.HapticSession(self.doc)
-        self.assertEqual([o.Name for o in self.session.objects], ["Cylinder", "Block"])
+        self.assertEqual([r.obj.Name for r in self.session.parts], ["Cylinder", "Block"])
         mass = self.session.core.part_info(0)["mass_kg"]
         self.assertAlmostEqual(mass, 2.0, places=6)
         keys, frame = hs.demo_script(self.cylinder, lift=lift, **script)
@@ -151,7 +151,7 @@ class HapticGraspDocument(unittest.TestCase):
         hidden.Shape = Part.makeBox(10, 10, 10)
         hidden.Visibility = False
         self.session = hs.HapticSession(self.doc)
-        self.assertEqual([o.Name for o in self.session.objects], ["Cylinder", "Block"])
+        self.assertEqual([r.obj.Name for r in self.session.parts], ["Cylinder", "Block"])
         self.assertEqual(len(self.session.messages), 1, self.session.messages)
         self.assertIn("Sheet", self.session.messages[0])
         self.assertIn("not a solid", self.session.messages[0])
@@ -293,7 +293,7 @@ class HapticGraspDocument(unittest.TestCase):
         self.doc.recompute()
         first = hs.HapticSession(self.doc)
         self.session = first
-        index = [o.Name for o in first.objects].index("Tube")
+        index = [r.obj.Name for r in first.parts].index("Tube")
         keys, frame = hs.demo_script(tube, lift=False)
         first.use_hand_script(keys, frame)
         first.start()
@@ -304,7 +304,7 @@ class HapticGraspDocument(unittest.TestCase):
         tube.Radius = 30.0
         self.doc.recompute()
         self.session = second = hs.HapticSession(self.doc)
-        big = second.core.part_info([o.Name for o in second.objects].index("Tube"))["volume_mm3"]
+        big = second.core.part_info([r.obj.Name for r in second.parts].index("Tube"))["volume_mm3"]
         print("tube volume %.0f -> %.0f mm^3" % (small, big))
         self.assertAlmostEqual(big, tube.Shape.Volume, delta=1e-3 * tube.Shape.Volume)
         self.assertAlmostEqual(big / small, 2.25, delta=0.01)
@@ -366,7 +366,7 @@ class PartsIntoTheSession(unittest.TestCase):
         self.assertGreater(polls, 10)
         self.assertIn("Extra0", names)
         self.assertEqual(s.core.part_count(), 6)
-        self.assertEqual([o.Name for o in s.objects], ["Cylinder", "Block", "Extra0", "Extra1", "Extra2", "Extra3"])
+        self.assertEqual([r.obj.Name for r in s.parts], ["Cylinder", "Block", "Extra0", "Extra1", "Extra2", "Extra3"])
         self.assertEqual(s.messages, [])
 
     def test_cancel_leaves_no_half_built_session(self):
@@ -381,7 +381,7 @@ class PartsIntoTheSession(unittest.TestCase):
         self.assertTrue(s.cancelled)
         self.assertFalse(s.ready)
         self.assertTrue(s.poll_build())
-        self.assertEqual(s.objects, [])
+        self.assertEqual(s.parts, [])
         self.assertEqual(s.core.part_count(), 0)
         with self.assertRaises(RuntimeError):
             s.start()
@@ -403,7 +403,7 @@ class PartsIntoTheSession(unittest.TestCase):
         s = self.session = hs.HapticSession(self.doc, wait=False)
         self.assertTrue(s.build.wait(120))
         self.assertTrue(s.poll_build())
-        self.assertEqual([o.Name for o in s.objects], ["Cylinder", "Block"])
+        self.assertEqual([r.obj.Name for r in s.parts], ["Cylinder", "Block"])
         self.assertEqual(s.core.part_count(), 2)
         self.assertEqual(len(s.messages), 1, s.messages)
         print("bad part: %s" % s.messages[0])
@@ -415,7 +415,7 @@ class PartsIntoTheSession(unittest.TestCase):
         tube.Placement = App.Placement(App.Vector(0, 500, 0), App.Rotation())
         self.doc.recompute()
         s = self.session = hs.HapticSession(self.doc)
-        names = [o.Name for o in s.objects]
+        names = [r.obj.Name for r in s.parts]
         self.assertEqual(names, ["Cylinder", "Block", "Tube"])
         index = names.index("Tube")
         self.assertAlmostEqual(s.core.part_info(index)["bounds_mm"][1][0], 20.0, delta=1e-6)
@@ -464,7 +464,7 @@ class PartsIntoTheSession(unittest.TestCase):
         body.Placement = App.Placement(App.Vector(0, 700, 0), App.Rotation(App.Vector(0, 0, 1), 30))
         self.doc.recompute()
         s = self.session = hs.HapticSession(self.doc)
-        self.assertEqual([o.Name for o in s.objects], ["Cylinder", "Block", "Body"])
+        self.assertEqual([r.obj.Name for r in s.parts], ["Cylinder", "Block", "Body"])
         self.assertAlmostEqual(s.core.part_info(2)["bounds_mm"][1][0], 40.0, delta=1e-6)
         s.use_hand_input(hold_s=0.5)
         far = ((0.0, -900.0, 0.0), (0.0, -950.0, 0.0), (0.0, -925.0, 100.0))
@@ -522,7 +522,7 @@ class PartsIntoTheSession(unittest.TestCase):
         self.assertTrue(hs.same_placement(self.cylinder.getGlobalPlacement(), wanted, 1e-9))
         local_before = App.Placement(self.cylinder.Placement)
         self.session = s = hs.HapticSession(self.doc)
-        self.assertEqual([o.Name for o in s.objects], ["Cylinder"])   # the App::Parts are no parts
+        self.assertEqual([r.obj.Name for r in s.parts], ["Cylinder"])   # the App::Parts are no parts
         self.assertAlmostEqual(s.core.part_info(0)["mass_kg"], 2.0, places=6)
         # The core has the global placement.
         self.assertTrue(hs.same_placement(hs.to_placement(s.core.snapshot()["placements"][0]), wanted, 1e-6))
@@ -554,7 +554,7 @@ class PartsIntoTheSession(unittest.TestCase):
     def test_only_marked_parts_are_handed_in_once_any_is_marked(self):
         def handed():
             messages = []
-            return [o.Name for o in hs.collect_solids(self.doc, messages)], messages
+            return [r.obj.Name for r in hs.collect_solids(self.doc, messages)], messages
 
         self.assertEqual(handed(), (["Cylinder", "Block"], []))
         hs.set_graspable([self.block])
@@ -562,7 +562,7 @@ class PartsIntoTheSession(unittest.TestCase):
         self.assertFalse(hs.is_graspable(self.cylinder))
         self.assertEqual(handed(), (["Block"], []))
         self.session = s = hs.HapticSession(self.doc)
-        self.assertEqual([o.Name for o in s.objects], ["Block"])
+        self.assertEqual([r.obj.Name for r in s.parts], ["Block"])
         self.assertEqual(s.core.part_count(), 1)
         # A marked part that is hidden, or not a solid, is named in the report view.
         sheet = self.doc.addObject("Part::Feature", "Sheet")
@@ -595,7 +595,7 @@ class PartsIntoTheSession(unittest.TestCase):
         hidden.Visibility = False
         self.doc.recompute()
         messages = []
-        names = [o.Name for o in hs.collect_solids(self.doc, messages)]
+        names = [r.obj.Name for r in hs.collect_solids(self.doc, messages)]
         self.assertEqual(names, ["Cylinder", "Block", "Body"])   # not the Box feature, not the App::Parts
         self.assertEqual(messages, [])
 
@@ -641,7 +641,7 @@ class PartReports(unittest.TestCase):
         self.assertFalse(loop.isValid())
         self.add("Loop", loop, 0)
         s = self.open_session()
-        self.assertEqual([o.Name for o in s.objects], ["Cylinder", "Block", "Loop"])
+        self.assertEqual([r.obj.Name for r in s.parts], ["Cylinder", "Block", "Loop"])
         self.assertEqual(s.messages, [])   # loaded, not skipped
         said = [r for r in s.part_reports if r.startswith("Loop: ")]
         self.assertEqual(len(said), 1, s.part_reports)
@@ -657,7 +657,7 @@ class PartReports(unittest.TestCase):
         self.add("Touching", touching, 0)
         self.add("Overlapping", overlapping, 100)
         s = self.open_session()
-        self.assertEqual([o.Name for o in s.objects], ["Cylinder", "Block", "Touching", "Overlapping"])
+        self.assertEqual([r.obj.Name for r in s.parts], ["Cylinder", "Block", "Touching", "Overlapping"])
         self.assertIn("Touching: exact: valid B-rep", s.part_reports)
         self.assertFalse([r for r in s.part_reports if r.startswith("Touching: ") and "overlap" in r], s.part_reports)
         said = [r for r in s.part_reports if r.startswith("Overlapping: ") and "overlap" in r]
@@ -672,9 +672,438 @@ class PartReports(unittest.TestCase):
         self.assertEqual(len(shape.Solids), 18)
         self.add("AS1", shape, 0)
         s = self.open_session()
-        self.assertEqual([o.Name for o in s.objects], ["Cylinder", "Block", "AS1"])
+        self.assertEqual([r.obj.Name for r in s.parts], ["Cylinder", "Block", "AS1"])
         self.assertIn("AS1: exact: valid B-rep", s.part_reports)
         self.assertAlmostEqual(s.core.part_info(2)["volume_mm3"], shape.Volume, delta=1e-6 * shape.Volume)
+
+
+def exact_box(shape):
+    """A shape's bounding box from its geometry, as (xmin, ymin, zmin, xmax, ymax, zmax): on
+    a copy, which has no triangulation (optimalBoundingBox(False) still used one in 0.20.2)."""
+    b = shape.copy().optimalBoundingBox()
+    return (b.XMin, b.YMin, b.ZMin, b.XMax, b.YMax, b.ZMax)
+
+
+def placed_box(shape, placement):
+    """exact_box of `shape` (its own frame) put at `placement`."""
+    moved = shape.copy()
+    moved.Placement = placement
+    return exact_box(moved)
+
+
+class Assemblies(unittest.TestCase):
+    """Parts as the 3D view shows them in assemblies: an App::Link is a part of its own and
+    a move writes the link's placement, not its target's; a link array is one part per
+    element and a move writes that element's placement; App::Part trees and App::LinkGroups
+    with nested links give every solid once, where the view shows it (global boxes compared
+    with placements composed here by hand); a PartDesign Body is one part; share_key is
+    equal for parts showing one source."""
+
+    setUp = HapticGraspDocument.setUp
+    tearDown = HapticGraspDocument.tearDown
+
+    def collect(self):
+        messages = []
+        return hs.collect_solids(self.doc, messages), messages
+
+    def assertBoxes(self, got, expected, tol=1e-6):
+        self.assertEqual(len(got), len(expected))
+        for a, b in zip(got, expected):
+            self.assertTrue(all(abs(x - y) <= tol for x, y in zip(a, b)), (a, b))
+
+    def carry(self, label, **script):
+        """A session whose demo hand grasps the part `label`, carries it (0, 100, 0) mm and
+        lets go; returns the stopped session."""
+        self.session = s = hs.HapticSession(self.doc)
+        target = [r for r in s.parts if r.label == label]
+        self.assertEqual(len(target), 1, [r.label for r in s.parts])
+        keys, frame = hs.demo_script(target[0], **script)
+        s.use_hand_script(keys, frame)
+        s.start()
+        states = run(s, s.core.script_duration() + 0.3)
+        s.stop()
+        self.assertIn("MANIPULATE", states)
+        self.assertEqual(states[-1], "FREE", states)
+        self.assertEqual(s.moves, 1)
+        return s
+
+    def cylinder_local(self):
+        shape = self.cylinder.Shape.copy()
+        shape.Placement = App.Placement()
+        return shape
+
+    def test_a_link_moved_by_a_session_writes_the_links_placement_not_its_sources(self):
+        source = App.Placement(self.cylinder.Placement)
+        self.cylinder.Visibility = False   # shown only through the link
+        link = self.doc.addObject("App::Link", "Link")
+        link.LinkedObject = self.cylinder
+        link.Placement = App.Placement(App.Vector(400, 300, 300), source.Rotation)
+        self.doc.recompute()
+        self.doc.clearUndos()
+        refs, messages = self.collect()
+        self.assertEqual([(r.label, r.obj.Name, r.source.Name) for r in refs],
+                         [("Block", "Block", "Block"), ("Link", "Link", "Cylinder")])
+        self.assertEqual(messages, [])
+        # The link shows its target's shape at the link's placement (LinkTransform off).
+        self.assertBoxes([exact_box(refs[1].global_shape())], [placed_box(self.cylinder_local(), link.Placement)])
+        before = App.Placement(link.Placement)
+        s = self.carry("Link")
+        self.assertAlmostEqual(s.core.part_info(1)["mass_kg"], 2.0, places=6)   # the target's density
+        moved = link.Placement.Base - before.Base
+        print("link: moved by (%.3f, %.3f, %.3f) mm" % (moved.x, moved.y, moved.z))
+        self.assertAlmostEqual(moved.x, 0.0, delta=0.5)
+        self.assertAlmostEqual(moved.y, 100.0, delta=0.5)
+        self.assertAlmostEqual(moved.z, 0.0, delta=0.5)
+        self.assertTrue(hs.same_placement(self.cylinder.Placement, source, 0.0), self.cylinder.Placement)
+        self.assertEqual(self.doc.UndoNames, ["Haptic move Link"])
+        self.doc.undo()
+        self.assertTrue(hs.same_placement(link.Placement, before, 1e-9), link.Placement)
+        # A target shown at the top level too is a part of its own, once.
+        self.cylinder.Visibility = True
+        self.assertEqual([r.label for r in self.collect()[0]], ["Cylinder", "Block", "Link"])
+
+    def check_link_array(self, show_element):
+        self.cylinder.Visibility = False
+        array = self.doc.addObject("App::Link", "Array")
+        array.LinkedObject = self.cylinder
+        array.ShowElement = show_element
+        array.ElementCount = 3
+        rotation = self.cylinder.Placement.Rotation
+        places = [App.Placement(App.Vector(400, 300 * (i + 1), 250), rotation) for i in range(3)]
+        if show_element:   # each element an object (App::LinkElement) with its own Placement
+            for element, place in zip(array.ElementList, places):
+                element.Placement = place
+        else:              # the elements' placements in the link's PlacementList
+            array.PlacementList = places
+        array.Placement = App.Placement(App.Vector(0, 0, 50), App.Rotation())   # carries every element
+        self.doc.recompute()
+        self.doc.clearUndos()
+
+        def element_places():
+            if show_element:
+                return [App.Placement(e.Placement) for e in array.ElementList]
+            return [App.Placement(p) for p in array.PlacementList]
+
+        self.assertEqual(len(array.ElementList), 3 if show_element else 0)
+        refs = [r for r in self.collect()[0] if r.obj == array]
+        self.assertEqual([(r.label, r.index) for r in refs], [("Array[0]", 0), ("Array[1]", 1), ("Array[2]", 2)])
+        self.assertBoxes([exact_box(r.global_shape()) for r in refs],
+                         [placed_box(self.cylinder_local(), array.Placement.multiply(p)) for p in places])
+        self.carry("Array[1]")
+        after = element_places()
+        moved = after[1].Base - places[1].Base
+        print("array element 1 (ShowElement %s): moved by (%.3f, %.3f, %.3f) mm"
+              % (show_element, moved.x, moved.y, moved.z))
+        self.assertAlmostEqual(moved.x, 0.0, delta=0.5)
+        self.assertAlmostEqual(moved.y, 100.0, delta=0.5)
+        self.assertAlmostEqual(moved.z, 0.0, delta=0.5)
+        for i in (0, 2):
+            self.assertTrue(hs.same_placement(after[i], places[i], 0.0), (i, after[i]))
+        self.assertTrue(hs.same_placement(array.Placement, App.Placement(App.Vector(0, 0, 50), App.Rotation()), 0.0))
+        self.assertEqual(self.doc.UndoNames, ["Haptic move Array[1]"])
+        self.doc.undo()
+        self.assertTrue(hs.same_placement(element_places()[1], places[1], 1e-9), element_places()[1])
+        # A hidden element is no part.
+        array.setElementVisible("2", False)
+        self.assertEqual([r.label for r in self.collect()[0] if r.obj == array], ["Array[0]", "Array[1]"])
+
+    def test_a_link_array_is_one_part_per_element_and_a_move_writes_its_placement_list_entry(self):
+        self.check_link_array(show_element=False)
+
+    def test_a_link_array_is_one_part_per_element_and_a_move_writes_its_element_object(self):
+        self.check_link_array(show_element=True)
+
+    def test_an_app_part_tree_gives_every_visible_solid_once_at_its_global_placement(self):
+        asm = self.doc.addObject("App::Part", "Asm")
+        asm.Placement = App.Placement(App.Vector(10, 20, 30), App.Rotation(App.Vector(0, 0, 1), 30))
+        sub = self.doc.addObject("App::Part", "Sub")
+        sub.Placement = App.Placement(App.Vector(0, 50, 0), App.Rotation(App.Vector(1, 0, 0), 45))
+        asm.addObject(sub)
+        box = self.doc.addObject("Part::Box", "Box")
+        box.Length, box.Width, box.Height = 10, 20, 30
+        box.Placement = App.Placement(App.Vector(5, 0, 0), App.Rotation(App.Vector(0, 1, 0), 10))
+        sub.addObject(box)
+        pin = self.doc.addObject("Part::Cylinder", "Pin")
+        pin.Placement = App.Placement(App.Vector(0, 0, 100), App.Rotation(App.Vector(0, 1, 0), 20))
+        asm.addObject(pin)
+        hidden = self.doc.addObject("App::Part", "Hidden")
+        hidden.Visibility = False
+        asm.addObject(hidden)
+        hidden.addObject(self.doc.addObject("Part::Box", "Inside"))
+        self.doc.recompute()
+        refs, messages = self.collect()
+        self.assertEqual([(r.label, r.obj.Name, r.index) for r in refs],
+                         [("Cylinder", "Cylinder", None), ("Block", "Block", None), ("Box", "Box", None),
+                          ("Pin", "Pin", None)])
+        self.assertEqual(messages, [])
+        self.assertBoxes([exact_box(r.global_shape()) for r in refs[2:]],
+                         [placed_box(Part.makeBox(10, 20, 30), asm.Placement.multiply(sub.Placement).multiply(box.Placement)),
+                          placed_box(Part.makeCylinder(2, 10), asm.Placement.multiply(pin.Placement))])
+        # A move writes the part's own Placement, relative to its containers.
+        wanted = App.Placement(App.Vector(-100, 40, 7), App.Rotation(App.Vector(1, 1, 0), 60))
+        refs[2].set_global_placement(wanted)
+        self.assertTrue(hs.same_placement(asm.Placement.multiply(sub.Placement).multiply(box.Placement), wanted, 1e-9))
+        self.assertTrue(hs.same_placement(refs[2].global_placement(), wanted, 1e-9))
+
+    def nested_link_groups(self):
+        """An assembly as FreeCAD's STEP importer makes it with links: a top LinkGroup holds a
+        plate and a link array of two instances of a hidden LinkGroup "Pair" (a bolt, a nut
+        hidden at the top level but shown in its group, and a link to a hidden washer)."""
+        V, R = App.Vector, App.Rotation
+        bolt = self.doc.addObject("Part::Cylinder", "Bolt")
+        bolt.Radius, bolt.Height = 3.0, 20.0
+        bolt.Placement = App.Placement(V(1, 2, 3), R(V(1, 0, 0), 90))
+        nut = self.doc.addObject("Part::Box", "Nut")
+        nut.Length, nut.Width, nut.Height = 6, 6, 4
+        nut.Placement = App.Placement(V(0, 0, 20), R())
+        nut.Visibility = False
+        washer = self.doc.addObject("Part::Cylinder", "Washer")
+        washer.Radius, washer.Height = 5.0, 1.0
+        washer.Placement = App.Placement(V(0, 0, 999), R())   # a link shows it at the link's placement
+        washer.Visibility = False
+        washer_link = self.doc.addObject("App::Link", "WasherLink")
+        washer_link.LinkedObject = washer
+        washer_link.Placement = App.Placement(V(0, 0, 24), R(V(0, 1, 0), 5))
+        pair = self.doc.addObject("App::LinkGroup", "Pair")
+        pair.ElementList = [bolt, nut, washer_link]
+        pair.Placement = App.Placement(V(0, 0, 500), R())   # replaced by each link's placement
+        pair.Visibility = False
+        pairs = self.doc.addObject("App::Link", "Pairs")
+        pairs.LinkedObject = pair
+        pairs.ShowElement = False
+        pairs.ElementCount = 2
+        pairs.PlacementList = [App.Placement(V(30, 0, 0), R()), App.Placement(V(80, 10, 0), R(V(0, 0, 1), 15))]
+        plate = self.doc.addObject("Part::Box", "Plate")
+        plate.Length, plate.Width, plate.Height = 120, 40, 5
+        top = self.doc.addObject("App::LinkGroup", "Top")
+        top.ElementList = [plate, pairs]
+        top.Placement = App.Placement(V(0, 600, 0), R(V(0, 0, 1), 90))
+        self.doc.recompute()
+        self.doc.clearUndos()
+        return top, pairs, bolt, nut, washer_link
+
+    def test_a_link_group_with_nested_links_gives_every_solid_once_at_its_global_placement(self):
+        top, pairs, bolt, nut, washer_link = self.nested_link_groups()
+        refs, messages = self.collect()
+        labels = [r.label for r in refs]
+        instance = ["Pairs[%d]/%s" % (i, n) for i in (0, 1) for n in ("Bolt", "Nut", "WasherLink")]
+        self.assertEqual(labels, ["Cylinder", "Block", "Plate"] + instance)
+        bolt_local, nut_local = Part.makeCylinder(3, 20), Part.makeBox(6, 6, 4)
+        washer_local = Part.makeCylinder(5, 1)
+        expected = [placed_box(Part.makeBox(120, 40, 5), top.Placement)]
+        for q in pairs.PlacementList:
+            at = top.Placement.multiply(q)
+            expected += [placed_box(bolt_local, at.multiply(bolt.Placement)), placed_box(nut_local, at.multiply(nut.Placement)),
+                         placed_box(washer_local, at.multiply(washer_link.Placement))]
+        self.assertBoxes([exact_box(r.global_shape()) for r in refs[2:]], expected)
+        # Each instance's parts are written through the array element they are shown by.
+        self.assertEqual([(r.obj.Name, r.index) for r in refs[3:]], [("Pairs", 0)] * 3 + [("Pairs", 1)] * 3)
+        self.assertEqual(messages, ["Pairs[0]: its 3 parts are one linked instance in the document, moving one "
+                                    "moves them all",
+                                    "Pairs[1]: its 3 parts are one linked instance in the document, moving one "
+                                    "moves them all"])
+        # The bolt of instance 1 moved: that instance's entry of PlacementList changes; the
+        # shared bolt, the other instance and the group stay.
+        bolt1, nut1 = refs[6], refs[7]
+        shift = App.Placement(App.Vector(0, 0, 40), App.Rotation(App.Vector(0, 0, 1), 30), App.Vector(0, 600, 0))
+        wanted = shift.multiply(bolt1.global_placement())
+        nut_wanted = shift.multiply(nut1.global_placement())
+        first = App.Placement(pairs.PlacementList[0])
+        bolt_own = App.Placement(bolt.Placement)
+        bolt1.set_global_placement(wanted)
+        self.assertTrue(hs.same_placement(bolt1.global_placement(), wanted, 1e-9))
+        self.assertTrue(hs.same_placement(nut1.global_placement(), nut_wanted, 1e-9))
+        self.assertTrue(hs.same_placement(pairs.PlacementList[0], first, 0.0))
+        self.assertTrue(hs.same_placement(bolt.Placement, bolt_own, 0.0))
+        self.assertBoxes([exact_box(r.global_shape()) for r in refs[3:6]], expected[1:4])
+
+    def linked_instance(self):
+        """The cylinder and a cap 250 mm above it in a hidden LinkGroup shown by one link."""
+        cap = self.doc.addObject("Part::Box", "Cap")
+        cap.Placement = App.Placement(App.Vector(390, -10, 550), App.Rotation())
+        pair = self.doc.addObject("App::LinkGroup", "Pair")
+        pair.ElementList = [self.cylinder, cap]
+        pair.Visibility = False
+        unit = self.doc.addObject("App::Link", "Unit")
+        unit.LinkedObject = pair
+        unit.Placement = App.Placement(App.Vector(0, 0, 0), App.Rotation())
+        self.doc.recompute()
+        self.doc.clearUndos()
+        return unit
+
+    def test_a_part_inside_a_linked_instance_carries_the_instance_and_the_core_catches_up(self):
+        unit = self.linked_instance()
+        own = App.Placement(self.cylinder.Placement)
+        s = self.carry("Unit/Cylinder")
+        self.assertEqual([r.label for r in s.parts], ["Block", "Unit/Cylinder", "Unit/Cap"])
+        moved = unit.Placement.Base
+        print("linked instance: the link moved by (%.3f, %.3f, %.3f) mm" % (moved.x, moved.y, moved.z))
+        self.assertAlmostEqual(moved.y, 100.0, delta=0.5)
+        self.assertAlmostEqual(moved.x, 0.0, delta=0.5)
+        self.assertTrue(hs.same_placement(self.cylinder.Placement, own, 0.0))   # the shared object stays
+        self.assertEqual(self.doc.UndoNames, ["Haptic move Unit/Cylinder"])
+        # The cap moved with its instance in the document; once released the session put it
+        # there in the core too (one restart).
+        self.assertEqual(s.restarts, 1, s.messages)
+        cap_core = hs.to_placement(s.core.snapshot()["placements"][2])
+        self.assertTrue(hs.same_placement(cap_core, s.parts[2].global_placement(), 1e-6))
+        self.assertIn("Unit/Cap moved in the document: haptics restarted with the parts where the document has them",
+                      s.messages)
+
+    def test_a_manipulation_of_a_linked_instance_between_two_ticks_is_one_undo_step(self):
+        # A GUI busy for the whole manipulation: the link is written once, for the part that
+        # moved in the core; its instance's other part follows it in the document.
+        self.linked_instance()
+        s = self.session = hs.HapticSession(self.doc)
+        keys, frame = hs.demo_script([r for r in s.parts if r.label == "Unit/Cylinder"][0])
+        s.use_hand_script(keys, frame)
+        s.start()
+        time.sleep(s.core.script_duration() + 0.3)
+        snap = s.tick()
+        s.stop()
+        self.assertEqual(snap["state"], "FREE")
+        self.assertIn("release", snap["event_names"])
+        self.assertAlmostEqual(self.doc.getObject("Unit").Placement.Base.y, 100.0, delta=0.5)
+        self.assertEqual(self.doc.UndoNames, ["Haptic move Unit/Cylinder"])
+
+    def test_a_partdesign_body_is_one_part_and_a_link_to_it_another(self):
+        body = self.doc.addObject("PartDesign::Body", "Body")
+        pad = self.doc.addObject("PartDesign::AdditiveBox", "Pad")
+        body.addObject(pad)
+        hole = self.doc.addObject("PartDesign::SubtractiveCylinder", "Hole")
+        body.addObject(hole)
+        pad.Length, pad.Width, pad.Height = 40.0, 30.0, 20.0
+        hole.Radius, hole.Height = 5.0, 20.0
+        hole.Placement = App.Placement(App.Vector(20, 15, 0), App.Rotation())
+        holder = self.doc.addObject("App::Part", "Holder")
+        holder.Placement = App.Placement(App.Vector(0, 800, 0), App.Rotation(App.Vector(0, 0, 1), 30))
+        holder.addObject(body)
+        body.Placement = App.Placement(App.Vector(10, 0, 0), App.Rotation())
+        link = self.doc.addObject("App::Link", "BodyLink")
+        link.LinkedObject = body
+        link.Placement = App.Placement(App.Vector(0, -800, 0), App.Rotation())
+        self.doc.recompute()
+        refs, messages = self.collect()
+        self.assertEqual([(r.label, r.obj.Name) for r in refs],
+                         [("Cylinder", "Cylinder"), ("Block", "Block"), ("Body", "Body"), ("BodyLink", "BodyLink")])
+        self.assertEqual(messages, [])
+        local = body.Shape.copy()
+        local.Placement = App.Placement()
+        self.assertEqual(len(local.Solids), 1)
+        self.assertBoxes([exact_box(r.global_shape()) for r in refs[2:]],
+                         [placed_box(local, holder.Placement.multiply(body.Placement)), placed_box(local, link.Placement)])
+        self.assertEqual(hs.share_key(refs[2]), hs.share_key(refs[3]))
+
+    def test_a_scaled_link_is_skipped_and_a_draft_link_array_is_one_part(self):
+        import Draft
+        scaled = self.doc.addObject("App::Link", "Scaled")
+        scaled.LinkedObject = self.block
+        scaled.ScaleVector = App.Vector(2, 2, 2)
+        array = self.doc.addObject("App::Link", "Array")
+        array.LinkedObject = self.cylinder
+        array.ElementCount = 2
+        array.ScaleList = [App.Vector(1, 1, 1), App.Vector(1, 1, -1)]   # element 1 mirrored
+        # Draft's link array: its element placements are computed from its parameters
+        # (PlacementList is read-only), so the array is one rigid part with one Placement.
+        draft = Draft.make_ortho_array(self.block, v_x=App.Vector(150, 0, 0), v_y=App.Vector(0, 150, 0),
+                                       v_z=App.Vector(0, 0, 150), n_x=3, n_y=1, n_z=1, use_link=True)
+        self.doc.recompute()
+        refs, messages = self.collect()
+        self.assertEqual([(r.label, r.obj.Name, r.index) for r in refs],
+                         [("Cylinder", "Cylinder", None), ("Block", "Block", None), ("Array[0]", "Array", 0),
+                          (draft.Label, draft.Name, None)])
+        self.assertEqual(messages, ["skipping Scaled: a link scales it, so it is not a rigid copy of its source",
+                                    "skipping Array[1]: a link scales it, so it is not a rigid copy of its source",
+                                    "%s holds 3 solids, carried as one rigid part; HapticGrasp > Split into solids "
+                                    "makes each graspable" % draft.Label])
+        wanted = App.Placement(App.Vector(0, -700, 0), App.Rotation(App.Vector(0, 0, 1), 90))
+        refs[3].set_global_placement(refs[3].global_placement().multiply(wanted))
+        self.assertTrue(hs.same_placement(draft.Placement, wanted, 1e-9), draft.Placement)
+
+    def test_share_key_is_equal_for_parts_showing_one_source_and_different_otherwise(self):
+        def link(name, target):
+            obj = self.doc.addObject("App::Link", name)
+            obj.LinkedObject = target
+            obj.Placement = App.Placement(App.Vector(0, 200 * len(self.doc.Objects), 0), App.Rotation())
+            return obj
+
+        link("A", self.cylinder)
+        link("B", self.cylinder)
+        link("C", self.doc.getObject("B"))   # a link to a link: the same source
+        link("D", self.block)
+        twin = self.doc.addObject("Part::Feature", "Twin")   # the same geometry, another object
+        twin.Shape = self.cylinder.Shape
+        self.doc.recompute()
+        keys = {r.label: hs.share_key(r) for r in self.collect()[0]}
+        self.assertEqual(sorted(keys), ["A", "B", "Block", "C", "Cylinder", "D", "Twin"])
+        self.assertTrue(all(isinstance(k, str) for k in keys.values()))
+        self.assertEqual(len({keys["Cylinder"], keys["A"], keys["B"], keys["C"]}), 1)
+        self.assertEqual(keys["D"], keys["Block"])
+        self.assertEqual(len({keys["Cylinder"], keys["Block"], keys["Twin"]}), 3)
+
+
+class SplitIntoSolids(unittest.TestCase):
+    """An object holding several solids is one rigid part and the report view says how to
+    split it; split_solids makes one object per solid in one undo step."""
+
+    setUp = HapticGraspDocument.setUp
+    tearDown = HapticGraspDocument.tearDown
+
+    def test_the_as1_step_read_as_one_shape_is_one_part_of_18_solids_and_splits_into_18_in_one_undo_step(self):
+        shape = Part.Shape()   # Import.insert() of this file segfaults under freecadcmd
+        shape.read(os.path.join(os.environ.get("HG_TEST_DATA_DIR", ""), "as1-oc-214.stp"))
+        self.assertEqual(len(shape.Solids), 18)
+        holder = self.doc.addObject("App::Part", "Holder")
+        holder.Placement = App.Placement(App.Vector(0, 900, 40), App.Rotation(App.Vector(1, 2, 3), 25))
+        as1 = self.doc.addObject("Part::Feature", "AS1")
+        as1.Shape = shape
+        as1.Placement = App.Placement(App.Vector(30, 0, 0), App.Rotation(App.Vector(0, 0, 1), 10))
+        holder.addObject(as1)
+        as1.addProperty("App::PropertyFloat", hs.DENSITY_PROPERTY, "Haptic")
+        setattr(as1, hs.DENSITY_PROPERTY, 7850.0)
+        twins = self.doc.addObject("Part::Feature", "Twins")   # split in the same step
+        twins.Shape = Part.makeCompound([Part.makeBox(5, 5, 5), Part.makeBox(5, 5, 5, App.Vector(20, 0, 0))])
+        twins.Placement = App.Placement(App.Vector(0, -900, 0), App.Rotation())
+        hs.set_graspable([as1])
+        self.doc.recompute()
+        self.doc.clearUndos()
+        messages = []
+        refs = hs.collect_solids(self.doc, messages)
+        self.assertEqual([r.label for r in refs], ["AS1"])
+        self.assertEqual(len(refs[0].shape().Solids), 18)
+        self.assertEqual(messages, ["AS1 holds 18 solids, carried as one rigid part; HapticGrasp > Split into "
+                                    "solids makes each graspable"])
+        where = shape.copy()
+        where.Placement = holder.Placement.multiply(as1.Placement)
+        expected = sorted(exact_box(s) for s in where.Solids)
+
+        before = sorted(o.Name for o in self.doc.Objects)
+        made = hs.split_solids([as1, self.block, twins])   # the block holds one solid: left alone
+        self.assertEqual([o.Label for o in made], ["AS1 solid %d" % n for n in range(1, 19)] + ["Twins solid 1",
+                                                                                                "Twins solid 2"])
+        self.assertEqual([exact_box(o.Shape)[:2] for o in made[18:]], [(0.0, -900.0), (20.0, -900.0)])
+        self.assertFalse(twins.Visibility)
+        made = made[:18]
+        self.assertEqual(self.doc.UndoNames, ["Split into solids"])
+        self.assertFalse(as1.Visibility)
+        self.assertFalse(hs.is_graspable(as1))
+        for piece in made:
+            self.assertEqual(piece.getParentGeoFeatureGroup(), holder)
+            self.assertEqual(getattr(piece, hs.DENSITY_PROPERTY), 7850.0)
+            self.assertTrue(hs.is_graspable(piece))
+            self.assertEqual(len(piece.Shape.Solids), 1)
+        messages = []
+        refs = hs.collect_solids(self.doc, messages)
+        self.assertEqual([r.label for r in refs], [o.Label for o in made])
+        self.assertEqual(messages, [])
+        got = sorted(exact_box(r.global_shape()) for r in refs)
+        Assemblies.assertBoxes(self, got, expected)
+
+        self.doc.undo()   # one step brings back the two objects split
+        self.assertEqual(sorted(o.Name for o in self.doc.Objects), before)
+        self.assertTrue(as1.Visibility and twins.Visibility)
+        self.assertTrue(hs.is_graspable(as1))
+        self.assertEqual([r.label for r in hs.collect_solids(self.doc, [])], ["AS1"])
 
 
 class ForceParameters(unittest.TestCase):

@@ -208,11 +208,11 @@ class HapticGraspGui(unittest.TestCase):
             Gui.runCommand("HapticGrasp_MarkGraspable")
             self.assertTrue(hs.is_graspable(a))
             self.assertFalse(hs.is_graspable(b))
-            self.assertEqual([o.Name for o in hs.collect_solids(doc, [])], ["A"])
+            self.assertEqual([r.obj.Name for r in hs.collect_solids(doc, [])], ["A"])
             self.assertEqual(doc.UndoNames, ["Mark graspable"])
             Gui.runCommand("HapticGrasp_MarkGraspable")   # all selected marked: unmark
             self.assertFalse(hs.is_graspable(a))
-            self.assertEqual([o.Name for o in hs.collect_solids(doc, [])], ["A", "B"])
+            self.assertEqual([r.obj.Name for r in hs.collect_solids(doc, [])], ["A", "B"])
         finally:
             Gui.Selection.clearSelection()
             App.closeDocument(doc.Name)
@@ -708,3 +708,123 @@ class HapticGraspGui(unittest.TestCase):
         search.setInterest(coin.SoSearchAction.ALL)
         search.apply(Gui.ActiveDocument.ActiveView.getSceneGraph())
         return search.getPaths().getLength()
+
+
+AS1 = os.path.join(os.environ.get("HG_TEST_DATA_DIR", ""), "as1-oc-214.stp")
+IMPORT_PREFERENCES = "User parameter:BaseApp/Preferences/Mod/Import"
+
+
+def _exact_box(shape):
+    """The shape's bounding box from its geometry: on a copy without the display's
+    triangulation (in FreeCAD 0.20.2 optimalBoundingBox(False) still used it: boxes of AS1's
+    shown solids came out up to 0.04 mm larger)."""
+    b = shape.copy().optimalBoundingBox()
+    return (b.XMin, b.YMin, b.ZMin, b.XMax, b.YMax, b.ZMax)
+
+
+class StepAssemblies(unittest.TestCase):
+    """The public AS1 assembly (18 solids, 5 distinct shapes) through FreeCAD's own STEP
+    importer (ImportGui.insert), in the structures its preferences give (measured on
+    FreeCAD 0.20.2; keys in User parameter:BaseApp/Preferences/Mod/Import):
+    - defaults (hSTEP/ReadShapeCompoundMode true, UseLinkGroup true): the whole file merged
+      into ONE Part::Feature, a compound of the 18 solids: one part of 18 solids;
+    - ReadShapeCompoundMode false, UseLinkGroup true: App::LinkGroups and App::Links, with
+      link arrays (the rod's 2 nuts; the 2 l-bracket assemblies, each a hidden LinkGroup
+      holding the bracket and a 3-element array of the hidden nut-bolt LinkGroup): 18 parts;
+    - ReadShapeCompoundMode false, UseLinkGroup false: an App::Part tree of 18 Part::Features.
+    Every solid must be collected once and touchable where the view shows it: the parts'
+    global solids' boxes equal, as a multiset, those of the file read by Part.Shape.read."""
+
+    def setUp(self):
+        self.assertTrue(os.path.isfile(AS1), AS1)
+        shape = Part.Shape()
+        shape.read(AS1)
+        self.assertEqual(len(shape.Solids), 18)
+        self.expected = [_exact_box(s) for s in shape.Solids]
+        self.docs = []
+
+    def tearDown(self):
+        for key in ("ReadShapeCompoundMode", "UseLinkGroup"):   # back to the defaults
+            App.ParamGet(IMPORT_PREFERENCES + "/hSTEP").RemBool(key)
+            App.ParamGet(IMPORT_PREFERENCES).RemBool(key)
+        for doc in self.docs:
+            App.closeDocument(doc.Name)
+
+    def import_as1(self, name, merge=None, link_group=None):
+        """AS1 inserted by the GUI's STEP importer into a new document; None leaves a
+        preference at its default."""
+        import ImportGui
+        for group, key, value in ((IMPORT_PREFERENCES + "/hSTEP", "ReadShapeCompoundMode", merge),
+                                  (IMPORT_PREFERENCES, "UseLinkGroup", link_group)):
+            if value is None:
+                App.ParamGet(group).RemBool(key)
+            else:
+                App.ParamGet(group).SetBool(key, value)
+        doc = App.newDocument(name)
+        self.docs.append(doc)
+        ImportGui.insert(AS1, doc.Name)
+        doc.recompute()
+        doc.clearUndos()
+        return doc
+
+    def assertSameBoxes(self, got, tol=1e-3):
+        """got and the file's solids' boxes are the same multiset within tol (mm)."""
+        self.assertEqual(len(got), len(self.expected))
+        left = list(got)
+        for box in self.expected:
+            match = [b for b in left if all(abs(x - y) <= tol for x, y in zip(b, box))]
+            self.assertTrue(match, "no part at %s" % (box,))
+            left.remove(match[0])
+
+    def test_default_import_is_one_part_of_18_solids_and_the_split_command_makes_18(self):
+        doc = self.import_as1("AS1Default")
+        self.assertEqual([o.TypeId for o in doc.Objects], ["Part::Feature"])   # measured: merged
+        messages = []
+        parts = hs.collect_solids(doc, messages)
+        self.assertEqual(len(parts), 1)
+        compound = parts[0]
+        self.assertEqual(len(compound.global_shape().Solids), 18)
+        self.assertSameBoxes([_exact_box(s) for s in compound.global_shape().Solids])
+        self.assertEqual(messages, ["%s holds 18 solids, carried as one rigid part; HapticGrasp > Split into "
+                                    "solids makes each graspable" % compound.label])
+        # The command, on the selection: 18 objects in one undo step.
+        Gui.activateWorkbench("HapticGraspWorkbench")
+        Gui.Selection.clearSelection()
+        Gui.Selection.addSelection(compound.obj)
+        with _ErrorLog() as log:
+            self.assertTrue(Gui.Command.get("HapticGrasp_SplitSolids").isActive())
+            Gui.runCommand("HapticGrasp_SplitSolids")
+        Gui.Selection.clearSelection()
+        self.assertEqual(log.errors, [])
+        self.assertEqual(doc.UndoNames, ["Split into solids"])
+        messages = []
+        parts = hs.collect_solids(doc, messages)
+        self.assertEqual([p.label for p in parts], ["%s solid %d" % (compound.label, n) for n in range(1, 19)])
+        self.assertEqual(messages, [])
+        self.assertSameBoxes([_exact_box(p.global_shape()) for p in parts])
+        doc.undo()
+        self.assertEqual([p.label for p in hs.collect_solids(doc, [])], [compound.label])
+
+    def test_link_group_import_is_18_parts_each_where_the_view_shows_it(self):
+        doc = self.import_as1("AS1Links", merge=False, link_group=True)
+        types = {o.TypeId for o in doc.Objects}
+        self.assertEqual(types, {"App::LinkGroup", "App::Link", "Part::Feature"})
+        self.assertTrue(any(getattr(o, "ElementCount", 0) > 1 for o in doc.Objects if o.TypeId == "App::Link"))
+        parts = hs.collect_solids(doc, [])
+        print("AS1 with links: %s" % ", ".join(p.label for p in parts))
+        self.assertEqual(len(parts), 18)
+        self.assertTrue(all(len(p.global_shape().Solids) == 1 for p in parts))
+        self.assertSameBoxes([_exact_box(p.global_shape()) for p in parts])
+        self.assertEqual(len({hs.share_key(p) for p in parts}), 5)   # plate, bracket, rod, bolt, nut
+        # Each part's placement is written to an object it owns: a link (array element) or
+        # an unshared object; never a hidden link target's object.
+        self.assertTrue(all(p.obj.TypeId == "App::Link" or p.obj == p.leaf for p in parts))
+
+    def test_app_part_import_is_18_parts_each_where_the_view_shows_it(self):
+        doc = self.import_as1("AS1Parts", merge=False, link_group=False)
+        self.assertIn("App::Part", {o.TypeId for o in doc.Objects})
+        self.assertNotIn("App::Link", {o.TypeId for o in doc.Objects})
+        parts = hs.collect_solids(doc, [])
+        self.assertEqual(len(parts), 18)
+        self.assertEqual({p.obj.TypeId for p in parts}, {"Part::Feature"})
+        self.assertSameBoxes([_exact_box(p.global_shape()) for p in parts])

@@ -1,10 +1,13 @@
-"""GUI of the HapticGrasp workbench: Start/Stop commands and the QTimer that drives
-HapticSession.tick() on the GUI thread (InitGui.py imports this from Initialize())."""
+"""GUI of the HapticGrasp workbench: the Start/Stop, Mark graspable and Split into solids commands, and the
+QTimer that drives HapticSession.tick() on the GUI thread (InitGui.py imports this from Initialize())."""
 import FreeCAD as App
 import FreeCADGui as Gui
+from FreeCAD import Qt
 
 from . import session as hs
 from . import sounds as hsounds
+
+QT_TRANSLATE_NOOP = Qt.QT_TRANSLATE_NOOP   # marks command texts for translation (FreeCAD's convention)
 
 
 class _HapticGraspController:
@@ -80,12 +83,13 @@ class _HapticGraspController:
         session = cls.session
         if cls.panel is not None:
             cls.panel.set_building(False)
-        if not session.objects:
+        if not session.parts:
             App.Console.PrintError("HapticGrasp: no visible solid to grasp\n")
             cls.stop()
             return
-        selected = [o for o in getattr(cls, "selected", []) if o in session.objects]
-        target = selected[0] if selected else session.objects[0]
+        chosen = getattr(cls, "selected", [])
+        selected = [r for r in session.parts if r.obj in chosen or r.leaf in chosen]
+        target = selected[0] if selected else session.parts[0]
         view = getattr(Gui.ActiveDocument, "ActiveView", None) if Gui.ActiveDocument else None
         if cls.device in ("mouse", "arm") and view is not None and hasattr(view, "addEventCallbackPivy"):
             # A hand fed from Python: the mouse and keyboard move a MouseHand, the timer
@@ -131,16 +135,16 @@ class _HapticGraspController:
             except Exception as e:  # no pivy: run without the overlay
                 App.Console.PrintWarning("HapticGrasp: no 3D overlay: %s\n" % e)
                 cls.overlay = None
-        App.Console.PrintMessage("HapticGrasp: started with %d part(s)\n" % len(session.objects))
+        App.Console.PrintMessage("HapticGrasp: started with %d part(s)\n" % len(session.parts))
 
     @classmethod
     def _use_hid_device(cls, session, target):
         """Opens the picked SpaceMouse / HID device for `session`, its hand starting above
-        `target` (a SpaceMouse: grip centre half the part's size + 20 mm above its centre,
+        `target` (a PartRef; a SpaceMouse: grip centre half the part's size + 20 mm above its centre,
         open wider than the part; a layout: the device frame's origin at the part's centre).
         False, with the reason in the report view and the panel, when it cannot be opened."""
         kind, path = cls.device.split(":", 1)
-        box = target.Shape.BoundBox
+        box = hs.global_bound_box(target)
         size = box.DiagonalLength
         try:
             if kind == "spacemouse":
@@ -447,6 +451,30 @@ class _MarkGraspableCommand:
                                                             ", ".join(o.Label for o in objects)))
 
 
+class _SplitSolidsCommand:
+    """Splits each selected object whose shape holds several solids (a STEP assembly read
+    as one compound) into one object per solid, so that each can be grasped on its own:
+    one undo step; the originals are hidden, not deleted (session.split_solids)."""
+
+    def GetResources(self):
+        return {"MenuText": QT_TRANSLATE_NOOP("HapticGrasp_SplitSolids", "Split into solids"),
+                "ToolTip": QT_TRANSLATE_NOOP("HapticGrasp_SplitSolids",
+                                             "Make one object per solid of the selected objects (the originals "
+                                             "are hidden), so that each solid can be grasped on its own")}
+
+    def IsActive(self):
+        return any(hs.solid_count(o) > 1 for o in Gui.Selection.getSelection())
+
+    def Activated(self):
+        selected = [o for o in Gui.Selection.getSelection() if hs.solid_count(o) > 1]
+        if not selected:
+            App.Console.PrintWarning("HapticGrasp: select an object whose shape holds several solids\n")
+            return
+        made = hs.split_solids(selected)
+        App.Console.PrintMessage("HapticGrasp: split %s into %d objects, one per solid (the original hidden)\n"
+                                 % (", ".join(o.Label for o in selected), len(made)))
+
+
 _registered = False
 
 
@@ -456,5 +484,6 @@ def register():
         Gui.addCommand("HapticGrasp_Start", _StartCommand())
         Gui.addCommand("HapticGrasp_Stop", _StopCommand())
         Gui.addCommand("HapticGrasp_MarkGraspable", _MarkGraspableCommand())
+        Gui.addCommand("HapticGrasp_SplitSolids", _SplitSolidsCommand())
         _registered = True
-    return ["HapticGrasp_Start", "HapticGrasp_Stop", "HapticGrasp_MarkGraspable"]
+    return ["HapticGrasp_Start", "HapticGrasp_Stop", "HapticGrasp_MarkGraspable", "HapticGrasp_SplitSolids"]

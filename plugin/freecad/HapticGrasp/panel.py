@@ -257,7 +257,7 @@ class HapticTaskPanel:
         f["device"].setText(session.core.device_name)
         f["state"].setText(snap["state"] + ("" if fault == "none" else "  (fault: %s)" % fault))
         grasped = snap.get("grasped", -1)
-        f["part"].setText(session.objects[grasped].Label if 0 <= grasped < len(session.objects) else "-")
+        f["part"].setText(session.parts[grasped].label if 0 <= grasped < len(session.parts) else "-")
         forces = snap.get("forces")   # not exposed by the binding yet: shown as such
         if forces is not None:
             import FreeCAD as App

@@ -2,7 +2,8 @@
 
 The servo thread runs in the C++ core; the GUI thread (a QTimer, 30-60 Hz) calls
 HapticSession.tick(), which reads a lock-free snapshot and moves the grasped part's
-Placement. Only this thread touches the document. Lengths cross into the core in mm;
+placement (PartRef: the part's own object, or the link instance it is shown through).
+Only this thread touches the document. Lengths cross into the core in mm;
 the core converts them once (freecad_boundary.cpp).
 
 Undo: one transaction per manipulation, "Haptic move <label>", opened from tick() when
@@ -13,6 +14,7 @@ transaction, puts the part back and says why in the report view.
 import math
 
 import FreeCAD as App
+import Part
 
 try:
     from . import _hapticgrasp as core
@@ -23,6 +25,7 @@ DEFAULT_DENSITY_KG_M3 = 1000.0
 DENSITY_PROPERTY = "HapticDensity"   # kg/m^3, per part (App::PropertyFloat)
 GRASPABLE_PROPERTY = "HapticGraspable"   # App::PropertyBool; see collect_solids()
 HOLDING = ("GRASP", "MANIPULATE")
+SPLIT_COMMAND_PATH = "HapticGrasp > Split into solids"   # gui.py's HapticGrasp_SplitSolids, as the menu shows it
 
 # Force parameters (SI), set in the preferences page "Haptic Grasp" and read at start().
 PARAMETER_PATH = "User parameter:BaseApp/Preferences/Mod/HapticGrasp"
@@ -70,6 +73,11 @@ def store_parameters(values):
 def _warn(messages, text):
     messages.append(text)
     App.Console.PrintWarning("HapticGrasp: " + text + "\n")
+
+
+def _note(messages, text):
+    messages.append(text)
+    App.Console.PrintMessage("HapticGrasp: " + text + "\n")
 
 
 def _error(messages, text):
@@ -122,31 +130,14 @@ def global_placement(obj):
     return App.Placement(obj.Placement)
 
 
-def parent_placement(obj):
-    """The global placement of the object's container (identity at the top level), so that
-    global = parent * obj.Placement and obj.Placement = parent.inverse() * global."""
-    return global_placement(obj).multiply(obj.Placement.inverse())
-
-
-def global_bound_box(obj):
-    """The object's bounding box in global coordinates (its Shape is in its container's)."""
-    shape = obj.Shape.copy(False)   # shares the geometry
-    shape.Placement = global_placement(obj)
+def global_bound_box(part):
+    """The bounding box in global coordinates of a PartRef, or of a document object (its
+    Shape is in its container's frame)."""
+    if isinstance(part, PartRef):
+        return part.global_shape().BoundBox
+    shape = part.Shape.copy(False)   # shares the geometry
+    shape.Placement = global_placement(part)
     return shape.BoundBox
-
-
-def _containers(obj):
-    chain = []
-    parent = obj.getParentGeoFeatureGroup() if hasattr(obj, "getParentGeoFeatureGroup") else None
-    while parent is not None and parent not in chain:
-        chain.append(parent)
-        parent = parent.getParentGeoFeatureGroup() if hasattr(parent, "getParentGeoFeatureGroup") else None
-    return chain
-
-
-def _shown(obj):
-    """Visible, and so are the containers it sits in (a hidden App::Part hides its parts)."""
-    return getattr(obj, "Visibility", True) and all(getattr(c, "Visibility", True) for c in _containers(obj))
 
 
 def is_graspable(obj):
@@ -166,10 +157,18 @@ def set_graspable(objects, on=True):
         setattr(obj, GRASPABLE_PROPERTY, bool(on))
 
 
+def _is_link(obj):
+    """An App::Link (or an element of a link array): it shows another object's shape."""
+    return obj.isDerivedFrom("App::Link") or obj.isDerivedFrom("App::LinkElement")
+
+
 def is_part_candidate(obj):
-    """Objects that may stand for a part: not containers (App::Part: its Shape is the
-    compound of its children, which are handed in themselves), not the features inside a
-    PartDesign Body (the Body stands for them)."""
+    """Objects that may stand for a part (what "Mark graspable" takes): App::Links, and
+    objects with a Shape that are not containers (App::Part: its Shape is the compound of
+    its children, which are handed in themselves), nor the features inside a PartDesign
+    Body (the Body stands for them)."""
+    if _is_link(obj):
+        return obj.getLinkedObject(True) is not None
     if getattr(obj, "Shape", None) is None:
         return False
     if obj.isDerivedFrom("App::Part") or obj.isDerivedFrom("PartDesign::Feature"):
@@ -177,31 +176,325 @@ def is_part_candidate(obj):
     return True
 
 
+# --- parts as the 3D view shows them -----------------------------------------------------
+class PartRef:
+    """One rigid part as the 3D view shows it: the object at the subname path `subname`
+    from the top-level object `root` ("" when root is the part), as FreeCAD's own
+    getSubObject / Part.getShape resolve it through containers and links.
+
+    `obj` is the document object its placement is written to, and `index` the element
+    when obj is a link array (else None). Without a link on the path obj is the part's
+    own object. Through links it is the first link on the path (for an array, the link and
+    the element's index): what lies beyond a link is shared by every link to the same
+    target, so the link's placement is the only one this instance owns; a part inside a
+    linked sub-assembly therefore moves its whole instance. `leaf` is the last object on
+    the path; `source` the object whose shape the part shows (a link's linked object, else
+    the leaf), the identity of its shape for sharing models (share_key)."""
+
+    def __init__(self, root, subname, obj, index, parent, leaf, source, label):
+        self.root = root
+        self.subname = subname
+        self.obj = obj
+        self.index = index
+        self.parent = parent   # path from root to what obj sits in (the array for an element); None: obj is root
+        self.leaf = leaf
+        self.source = source
+        self.label = label
+
+    def __repr__(self):
+        return "<PartRef %s>" % self.label
+
+    def global_shape(self):
+        """The part's shape where the 3D view shows it (its Placement is the global one)."""
+        return Part.getShape(self.root, self.subname, needSubElement=False, transform=True)
+
+    def shape(self):
+        """The part's shape in its own frame (no placement); shares the document's geometry."""
+        shape = self.global_shape()
+        shape.Placement = App.Placement()
+        return shape
+
+    def global_placement(self):
+        return self.global_shape().Placement
+
+    def placement(self):
+        """obj's own placement: its Placement, or the array element's (the element
+        object's Placement, or the entry of PlacementList when the elements are not shown
+        as objects)."""
+        if self.index is None:
+            return App.Placement(self.obj.Placement)
+        elements = self.obj.ElementList
+        if elements:
+            return App.Placement(elements[self.index].Placement)
+        return App.Placement(self.obj.PlacementList[self.index])
+
+    def set_placement(self, placement):
+        if self.index is None:
+            self.obj.Placement = placement
+            return
+        elements = self.obj.ElementList
+        if elements:
+            elements[self.index].Placement = placement
+        else:
+            placements = list(self.obj.PlacementList)
+            placements[self.index] = placement
+            self.obj.PlacementList = placements
+
+    def frame(self):
+        """(before, after) with global placement = before * placement() * after: `before`
+        the placements above obj on the path (containers, links, the array), `after` from
+        obj's frame to the shape's (a LinkTransform link's target Placement, the part's
+        place inside a linked sub-assembly; identity for a plain object)."""
+        before = App.Placement() if self.parent is None else self.root.getSubObject(self.parent, retType=3)
+        after = before.multiply(self.placement()).inverse().multiply(self.global_placement())
+        return before, after
+
+    def set_global_placement(self, placement, frame=None):
+        """Moves the part to `placement` (global) by writing obj's own placement; `frame`
+        is a frame() taken earlier (a manipulation keeps one)."""
+        before, after = frame or self.frame()
+        self.set_placement(before.inverse().multiply(placement).multiply(after.inverse()))
+
+
+def share_key(ref):
+    """A string naming the part's shape source: equal for parts that show the same shape in
+    their own frames (links to one target, instances of one linked sub-assembly), so that
+    a model can be built once for them."""
+    return "%s#%s" % (ref.source.Document.Name, ref.source.Name)
+
+
+def _link_target(link):
+    """What a link shows: its linked object, through further (non-array) links."""
+    target = link.LinkedObject
+    if isinstance(target, tuple):   # a link to sub-elements: (object, [names])
+        target = target[0]
+    if target is not None and _is_link(target) and not getattr(target, "ElementCount", 0):
+        target = target.getLinkedObject(True)
+    return target
+
+
+def _children(obj):
+    """(subname, object) of what obj shows as its children in the tree and the 3D view:
+    an App::Part's, a group's, an App::LinkGroup's objects (FreeCAD's getSubObjects). A
+    Body, a compound, a Draft link array show none: each is one part."""
+    if obj.hasExtension("App::LinkExtension") and not _is_link(obj):   # e.g. Draft link arrays
+        return []
+    children = []
+    for sub in obj.getSubObjects():
+        child = obj.getSubObject(sub, retType=1)
+        if child is not None:
+            children.append((sub, child))
+    return children
+
+
+def _top_level(doc):
+    """The document's objects that no other object shows as its child (in the tree's top
+    level): the walk starts there. A link does not claim its target: a visible target at
+    the top level is shown, and collected, as itself too."""
+    claimed = set()
+    for obj in doc.Objects:
+        if _is_link(obj):
+            continue
+        for _sub, child in _children(obj):
+            claimed.add(child)
+        if obj.hasExtension("App::GroupExtension"):   # a Body's features
+            claimed.update(obj.Group)
+    return [o for o in doc.Objects if o not in claimed and not o.isDerivedFrom("App::LinkElement")]
+
+
+def _scales(link, index=None):
+    """Whether a link (or its array element `index`) scales or mirrors what it shows: its
+    ScaleVector, the element's ScaleList entry or element object's ScaleVector."""
+    def off(scale):
+        return scale is not None and (App.Vector(scale) - App.Vector(1, 1, 1)).Length > 1e-12
+
+    if off(getattr(link, "ScaleVector", None)):
+        return True
+    if index is None:
+        return False
+    scales = getattr(link, "ScaleList", [])
+    elements = getattr(link, "ElementList", [])
+    return (index < len(scales) and off(scales[index])) or \
+        (index < len(elements) and off(getattr(elements[index], "ScaleVector", None)))
+
+
+def _element_visible(parent, name, child):
+    """Whether parent shows its child `name`: the parent's element visibility where it has
+    one (App::LinkGroup, link arrays), else the child's Visibility."""
+    shown = parent.isElementVisible(name)
+    return bool(child.Visibility) if shown < 0 else bool(shown)
+
+
+def _walk(root, found):
+    """Appends (PartRef, shown, scaled) for every part under the top-level object `root`,
+    depth first, hidden ones too (shown False: collect_solids() names marked parts hidden);
+    scaled: a link on its path scales or mirrors it."""
+
+    def label_of(prefix, obj, index=None):
+        name = obj.Label if index is None else "%s[%d]" % (obj.Label, index)
+        return name if prefix is None else prefix + "/" + name
+
+    def visit(obj, sub, parent, shown, scaled, writer, label, depth):
+        # obj is reached by `sub` from root; parent is the path to what holds it (None at
+        # root). writer: (object, element index, its parent path) of the first link on the
+        # path, None before one. label: the path's labels from the writer on, None before.
+        if depth > 64:   # FreeCAD forbids cycles; this bounds a broken document
+            return
+        if _is_link(obj):
+            target = _link_target(obj)
+            if target is None:
+                return
+            count = getattr(obj, "ElementCount", 0) if obj.isDerivedFrom("App::Link") else 0
+            for i in range(count):   # a link array: each element is an instance
+                visit_target(obj, target, sub + "%d." % i, shown and obj.isElementVisible(str(i)) != 0,
+                             scaled or _scales(obj, i), writer or (obj, i, sub), label_of(label, obj, i), depth)
+            if not count:
+                visit_target(obj, target, sub, shown, scaled or _scales(obj), writer or (obj, None, parent),
+                             label_of(label, obj), depth)
+            return
+        here = None if label is None else label_of(label, obj)
+        children = _children(obj)
+        for name, child in children:
+            visit(child, sub + name, sub, shown and _element_visible(obj, name[:-1], child), scaled, writer, here,
+                  depth + 1)
+        if not children:
+            add(sub, parent, obj, obj, shown, scaled, writer, here)
+
+    def visit_target(link, target, sub, shown, scaled, writer, label, depth):
+        # What a link shows: the target's own Visibility does not count (the link shows it).
+        children = [] if _is_link(target) else _children(target)
+        for name, child in children:
+            visit(child, sub + name, sub, shown and _element_visible(target, name[:-1], child), scaled, writer,
+                  label, depth + 1)
+        if not children:
+            add(sub, None, link, target, shown, scaled, writer, label)
+
+    def add(sub, parent, leaf, source, shown, scaled, writer, label):
+        obj, index, parent = writer or (leaf, None, parent)
+        found.append((PartRef(root, sub, obj, index, parent, leaf, source,
+                              leaf.Label if label is None else label), shown, scaled))
+
+    visit(root, "", None, bool(root.Visibility), False, None, None, 0)
+
+
 def collect_solids(doc, messages):
-    """The objects to hand to a session: the visible ones marked graspable if any object is
-    marked (HapticGraspable), else every visible object with a solid shape. Anything else
-    asked for (a visible unmarked object with a shape, or a marked one) that is not a solid
-    is skipped with one report-view line; so is a part marked graspable but hidden."""
-    candidates = [o for o in doc.Objects if is_part_candidate(o)]
-    marked = [o for o in candidates if is_graspable(o)]
+    """The parts to hand to a session, as PartRefs: every part the 3D view shows, walked
+    from the top-level objects through containers (App::Part, groups, App::LinkGroup) and
+    links (a part shown through several links is one part per link instance, a link array
+    one per element), or, once any object is marked graspable (HapticGraspable), only the
+    parts whose object, leaf or source is marked. A hidden container hides its children;
+    a link array's hidden elements are hidden. Anything else asked for that is not a
+    solid is skipped with one report-view line; so is a marked object shown nowhere. An
+    object holding several solids is one rigid part, and the report view says once how to
+    split it (split_solids)."""
+    walked = []
+    for root in _top_level(doc):
+        _walk(root, walked)
+    marked = [o for o in doc.Objects if is_graspable(o)]
+
+    def is_marked(ref):
+        return any(is_graspable(o) for o in (ref.obj, ref.leaf, ref.source))
+
     found = []
-    for obj in marked or candidates:
-        shape = obj.Shape
-        if not _shown(obj):
-            if marked:
-                _warn(messages, "skipping %s: marked graspable but hidden" % obj.Label)
+    several = set()   # sources said to hold several solids
+    for ref, shown, scaled in walked:
+        if not shown or (marked and not is_marked(ref)):
+            continue
+        if getattr(ref.source, "Shape", None) is None:
+            continue   # no geometry (an origin, a spreadsheet): not a part, nothing to say
+        try:
+            shape = ref.global_shape()
+        except Exception as e:
+            _warn(messages, "skipping %s: its shape cannot be read: %s" % (ref.label, e))
             continue
         if shape.isNull():
-            _warn(messages, "skipping %s: empty shape" % obj.Label)
+            _warn(messages, "skipping %s: empty shape" % ref.label)
             continue
         # Solids, nested in compounds as STEP assemblies read (one rigid part however many),
         # or shells the core closes into solids; the core refuses, with one line, what has
         # no closed shell. Sketches and sheets are not parts.
         if not shape.Solids and not shape.Shells:
-            _warn(messages, "skipping %s: not a solid (%s), it cannot be grasped" % (obj.Label, shape.ShapeType))
+            _warn(messages, "skipping %s: not a solid (%s), it cannot be grasped" % (ref.label, shape.ShapeType))
             continue
-        found.append(obj)
+        if scaled:
+            _warn(messages, "skipping %s: a link scales it, so it is not a rigid copy of its source" % ref.label)
+            continue
+        if len(shape.Solids) > 1 and ref.source not in several:
+            several.add(ref.source)
+            _note(messages, "%s holds %d solids, carried as one rigid part; %s makes each graspable"
+                  % (ref.label, len(shape.Solids), SPLIT_COMMAND_PATH))
+        found.append(ref)
+    for obj in marked:
+        if not any(obj in (r.obj, r.leaf, r.source) for r in found) and \
+                any(obj in (r.obj, r.leaf, r.source) for r, shown, _scaled in walked if not shown):
+            _warn(messages, "skipping %s: marked graspable but hidden" % obj.Label)
+    _say_shared_instances(found, messages)
     return found
+
+
+def _say_shared_instances(refs, messages):
+    """One line per linked instance that holds several parts: a move writes the instance's
+    link, so its other parts move with the one grasped."""
+    held = {}
+    for ref in refs:
+        held.setdefault((ref.obj, ref.index), []).append(ref)
+    for (obj, index), group in held.items():
+        if len(group) > 1:
+            name = obj.Label if index is None else "%s[%d]" % (obj.Label, index)
+            _note(messages, "%s: its %d parts are one linked instance in the document, moving one moves them all"
+                  % (name, len(group)))
+
+
+def solid_count(obj):
+    """How many solids obj's Shape holds (0 for an object without a Shape)."""
+    shape = getattr(obj, "Shape", None)
+    return 0 if shape is None else len(shape.Solids)
+
+
+def split_solids(objects):
+    """Splits each object whose shape holds several solids into one new Part::Feature per
+    solid ("<label> solid N", in the same container, each solid where it was; the density
+    and the graspable mark carried over), and hides the original (it is kept, unmarked).
+    One transaction ("Split into solids"): one undo step. Returns the new objects."""
+    objects = [o for o in objects if solid_count(o) > 1]
+    if not objects:
+        return []
+    doc = objects[0].Document
+    made = []
+    doc.openTransaction("Split into solids")
+    try:
+        for obj in objects:
+            made += _split(obj)
+    except Exception:
+        doc.abortTransaction()
+        raise
+    doc.commitTransaction()
+    return made
+
+
+def _split(obj):
+    doc = obj.Document
+    container = obj.getParentGroup() or obj.getParentGeoFeatureGroup()   # a folder, an App::Part
+    groups = [g for g in obj.InList if g.isDerivedFrom("App::LinkGroup") and obj in g.ElementList]
+    made = []
+    for n, solid in enumerate(obj.Shape.Solids, 1):
+        piece = doc.addObject("Part::Feature", obj.Name + "_solid")
+        piece.Label = "%s solid %d" % (obj.Label, n)
+        piece.Shape = solid   # in obj's container's frame: its Placement becomes the piece's
+        for prop in (DENSITY_PROPERTY, GRASPABLE_PROPERTY):
+            if hasattr(obj, prop):
+                piece.addProperty(obj.getTypeIdOfProperty(prop), prop, "Haptic", obj.getDocumentationOfProperty(prop))
+                setattr(piece, prop, getattr(obj, prop))
+        made.append(piece)
+    if container is not None:
+        for piece in made:
+            container.addObject(piece)
+    for group in groups:
+        group.ElementList = list(group.ElementList) + made
+    if hasattr(obj, GRASPABLE_PROPERTY):
+        setattr(obj, GRASPABLE_PROPERTY, False)
+    obj.Visibility = False
+    return made
 
 
 # Cancelled ModelBuilds still finishing the part in progress. Dropping one waits for its
@@ -219,12 +512,23 @@ def drain(build=None):
     return len(_DRAINING)
 
 
-def part_request(obj, default_density=DEFAULT_DENSITY_KG_M3):
-    """What the core's ModelBuild takes for one object: (name, BREP text without the
-    Placement, global base mm, quaternion, density kg/m^3). GUI thread (reads the document)."""
-    density = getattr(obj, DENSITY_PROPERTY, None) or default_density
-    base, quaternion = placement_numbers(global_placement(obj))
-    return (obj.Label, shape_brep(obj.Shape), base, quaternion, density)
+def density_of(ref, default_density=DEFAULT_DENSITY_KG_M3):
+    """kg/m^3: the HapticDensity of the part's object, else of its leaf or source (a link
+    takes its target's), else the default."""
+    for obj in (ref.obj, ref.leaf, ref.source):
+        density = getattr(obj, DENSITY_PROPERTY, None)
+        if density:
+            return density
+    return default_density
+
+
+def part_request(ref, default_density=DEFAULT_DENSITY_KG_M3, shape=None):
+    """What the core's ModelBuild takes for one part (a PartRef): (name, BREP text without
+    the Placement, global base mm, quaternion, density kg/m^3). `shape`: its global_shape()
+    if read already. GUI thread (reads the document)."""
+    shape = ref.global_shape() if shape is None else shape
+    base, quaternion = placement_numbers(shape.Placement)
+    return (ref.label, shape_brep(shape), base, quaternion, density_of(ref, default_density))
 
 
 class HapticSession:
@@ -239,16 +543,16 @@ class HapticSession:
         self.default_density = default_density
         self.messages = []        # what was said in the report view, for tests and the panel
         self.part_reports = []    # the report view's lines about each built part: back end, why, warnings
-        self.objects = []         # document objects, in the core's part order
-        self.shapes = []          # per part: the Shape its model was built from (TShape identity)
+        self.parts = []           # PartRefs, in the core's part order
+        self.shapes = []          # per part: the shape its model was built from (TShape identity)
         self.rebuilds = {}        # part index -> (ModelBuild, Label) of a rebuild in flight
         self.rebuilt = []         # per part: models swapped in after an edit
         self.restarts = 0         # servo loops restarted to swap models in
         self.core = core.Session()
         self.state = "FREE"
         self.active = None        # index of the part being manipulated (transaction open)
-        self.original = None      # its Placement before the manipulation
-        self.parent = None        # its container's global placement (App::Part), fixed meanwhile
+        self.original = None      # its object's own placement before the manipulation (PartRef.placement())
+        self.frame = None         # its PartRef.frame(): the placements around it, fixed meanwhile
         self.moves = 0            # committed manipulations
         self.aborted = 0
         self.fault = "none"
@@ -259,7 +563,7 @@ class HapticSession:
         self.arm = None           # the simulated arm's resting hand (arm_rest()), when it is the device
         self.cancelled = False
         self._candidates = collect_solids(doc, self.messages)
-        self._requested = []   # (object, the Shape exported), in the build's request order
+        self._requested = []   # (PartRef, the shape exported), in the build's request order
         self._next = 0         # candidates exported so far
         if wait:
             self.build = core.ModelBuild([r for r in map(self._export, self._candidates) if r is not None])
@@ -274,16 +578,16 @@ class HapticSession:
 
     EXPORT_BUDGET_S = 0.015   # BREP export per poll_build() (~4 ms for 200 faces, ~45 ms for 1600)
 
-    def _export(self, obj):
-        """The core's request for obj, or None (named in the report view) if its shape
+    def _export(self, ref):
+        """The core's request for a part, or None (named in the report view) if its shape
         cannot be exported."""
         try:
-            shape = obj.Shape
-            request = part_request(obj, self.default_density)
+            shape = ref.global_shape()
+            request = part_request(ref, self.default_density, shape)
         except Exception as e:
-            _warn(self.messages, "skipping %s: its shape cannot be exported: %s" % (obj.Label, e))
+            _warn(self.messages, "skipping %s: its shape cannot be exported: %s" % (ref.label, e))
             return None
-        self._requested.append((obj, shape))
+        self._requested.append((ref, shape))
         return request
 
     def _export_more(self):
@@ -334,12 +638,12 @@ class HapticSession:
         for _request, name, error in build.errors():
             _warn(self.messages, "skipping %s: %s" % (name, error))
         for request, index in self.core.add_built(build):
-            assert index == len(self.objects)
-            obj, shape = self._requested[request]
-            self.objects.append(obj)
+            assert index == len(self.parts)
+            ref, shape = self._requested[request]
+            self.parts.append(ref)
             self.shapes.append(shape)
             self.rebuilt.append(0)
-            _say_part(self.part_reports, obj.Label, self.core.part_info(index))
+            _say_part(self.part_reports, ref.label, self.core.part_info(index))
         return True
 
     def cancel_build(self):
@@ -383,7 +687,7 @@ class HapticSession:
         mouse-and-keyboard hand), the grasp sees the ARM's fingertips (the snapshot's hand)
         and the forces go to its joints. Placed so that its resting grip centre is `rest` (a
         Vector, mm), by default ARM_REST_ABOVE_MM above the top centre of `target` (a
-        document object, global bounding box), with its grip axis (thumb -> index) along
+        PartRef or a document object, global bounding box), with its grip axis (thumb -> index) along
         `grip_axis` (a horizontal Vector), by default the box's narrower horizontal side
         (y for the sample block). The hand opens to about 100 mm: a part is grasped across
         a side narrower than about 70 mm. Silent hold_s after the last set_hand().
@@ -468,7 +772,7 @@ class HapticSession:
             raise RuntimeError("the model build was cancelled")
         if not self.poll_build():
             raise RuntimeError("the part models are still being built")
-        if not self.objects:
+        if not self.parts:
             raise RuntimeError("no solid to grasp in %s" % self.doc.Label)
         self.parameters = stored_parameters() if parameters is None else dict(parameters)
         self.core.set_parameters(self.parameters)
@@ -518,16 +822,19 @@ class HapticSession:
             self._apply(snap)
             if state != "MANIPULATE" or grasped != self.active or "release" in events:
                 self._commit()
-        if self.active is None and state == "MANIPULATE" and 0 <= grasped < len(self.objects):
+        if self.active is None and state == "MANIPULATE" and 0 <= grasped < len(self.parts):
             self._begin(grasped)
             self._apply(snap)
         elif self.active is None and {"lift", "release"} <= events:
-            # A whole manipulation between two ticks: move what moved, one step each.
-            for index, obj in enumerate(self.objects):
-                if not same_placement(to_placement(snap["placements"][index]), global_placement(obj)):
-                    self._begin(index)
-                    self._apply(snap)
-                    self._commit()
+            # A whole manipulation between two ticks: move what moved, one step each. What
+            # moved is read before anything is written: a part of a linked instance moves
+            # the other parts of its instance in the document, not in the core.
+            moved = [index for index, ref in enumerate(self.parts)
+                     if not same_placement(to_placement(snap["placements"][index]), ref.global_placement())]
+            for index in moved:
+                self._begin(index)
+                self._apply(snap)
+                self._commit()
         self.state = state
         if self.core.running:
             self._watch_edits(state, snap)
@@ -542,11 +849,14 @@ class HapticSession:
         has them, and the report view says so. Untouched parts keep their models.
         A part the document placed elsewhere than the core has it (an undo, a Placement
         typed in, its App::Part moved) restarts the loop the same way, without a rebuild."""
-        for index, obj in enumerate(self.objects):
+        shapes = []   # per part: its global shape now, None if it cannot be read (deleted meanwhile)
+        for index, ref in enumerate(self.parts):
             try:
-                shape = obj.Shape
+                shape = ref.global_shape()
             except Exception:   # the object was deleted meanwhile: leave its model be
+                shapes.append(None)
                 continue
+            shapes.append(shape)
             if shape.isPartner(self.shapes[index]):
                 continue
             self.shapes[index] = shape
@@ -554,24 +864,21 @@ class HapticSession:
             if previous is not None:
                 drain(previous[0])
             if shape.isNull():
-                _warn(self.messages, "%s changed to an empty shape: keeping its previous model" % obj.Label)
+                _warn(self.messages, "%s changed to an empty shape: keeping its previous model" % ref.label)
                 continue
-            self.rebuilds[index] = (core.ModelBuild([part_request(obj, self.default_density)]), obj.Label)
-            _warn(self.messages, "%s changed: rebuilding its model" % obj.Label)
+            self.rebuilds[index] = (core.ModelBuild([part_request(ref, self.default_density, shape)]), ref.label)
+            _warn(self.messages, "%s changed: rebuilding its model" % ref.label)
         if _DRAINING:
             drain()
         if self.active is not None or state in HOLDING:
             return
         placements = []   # where the document has the parts (global)
         moved = []
-        for index, obj in enumerate(self.objects):
+        for index, ref in enumerate(self.parts):
             core_placement = to_placement(snap["placements"][index])
-            try:
-                placement = global_placement(obj)
-            except Exception:   # deleted meanwhile: it stays where the core has it
-                placement = core_placement
+            placement = core_placement if shapes[index] is None else shapes[index].Placement
             if not same_placement(placement, core_placement, 1e-6):
-                moved.append(obj.Label)
+                moved.append(ref.label)
             placements.append(placement_numbers(placement))
         swapped = []
         for index in sorted(self.rebuilds):
@@ -599,24 +906,26 @@ class HapticSession:
 
     # --- internals --------------------------------------------------------------------
     def _begin(self, index):
-        obj = self.objects[index]
+        ref = self.parts[index]
         self.active = index
-        self.original = App.Placement(obj.Placement)
-        self.parent = parent_placement(obj)
-        self.doc.openTransaction("Haptic move %s" % obj.Label)
+        self.original = ref.placement()
+        self.frame = ref.frame()
+        self.doc.openTransaction("Haptic move %s" % ref.label)
 
     def _apply(self, snap):
-        obj = self.objects[self.active]
-        # The core has the global placement; the object keeps one relative to its container.
-        placement = self.parent.inverse().multiply(to_placement(snap["placements"][self.active]))
-        if not same_placement(placement, obj.Placement):
-            obj.Placement = placement
+        ref = self.parts[self.active]
+        # The core has the global placement; the object keeps its own, relative to the
+        # containers and links above it (PartRef.frame()).
+        before, after = self.frame
+        placement = before.inverse().multiply(to_placement(snap["placements"][self.active])).multiply(after.inverse())
+        if not same_placement(placement, ref.placement()):
+            ref.set_placement(placement)
 
     def _commit(self):
         self.doc.commitTransaction()
         self.active = None
         self.original = None
-        self.parent = None
+        self.frame = None
         self.moves += 1
 
     def _on_fault(self, snap):
@@ -628,15 +937,15 @@ class HapticSession:
     def _abort(self, why, say):
         """Aborts the open manipulation (if any): its transaction, the part back."""
         if self.active is not None:
-            obj = self.objects[self.active]
+            ref = self.parts[self.active]
             self.doc.abortTransaction()
-            if not same_placement(obj.Placement, self.original):  # undo off: put it back ourselves
-                obj.Placement = self.original
+            if not same_placement(ref.placement(), self.original):  # undo off: put it back ourselves
+                ref.set_placement(self.original)
             self.active = None
             self.original = None
-            self.parent = None
+            self.frame = None
             self.aborted += 1
-            say(self.messages, "%s: move of %s aborted, the part is back where it was" % (why, obj.Label))
+            say(self.messages, "%s: move of %s aborted, the part is back where it was" % (why, ref.label))
         else:
             say(self.messages, "%s: the grasp was reset" % why)
 
@@ -661,8 +970,8 @@ def list_devices():
     return listing["devices"], ["layout not loaded: %s" % e for e in listing["layout_errors"]]
 
 
-def demo_script(obj, lift_mm=50.0, move_mm=(0.0, 100.0, 0.0), lift=True, turn_rad=0.0, squeeze_mm=1.0):
-    """A scripted hand for `obj` (document coordinates): fingertips come in along x on
+def demo_script(part, lift_mm=50.0, move_mm=(0.0, 100.0, 0.0), lift=True, turn_rad=0.0, squeeze_mm=1.0):
+    """A scripted hand for `part` (a PartRef or a document object; document coordinates): fingertips come in along x on
     either side of its bounding box centre, grasp, then (lift=True) lift by lift_mm, carry
     by move_mm while turning it by turn_rad about the vertical through its centre, put the
     part down and release, or (lift=False) open again without lifting.
@@ -671,7 +980,7 @@ def demo_script(obj, lift_mm=50.0, move_mm=(0.0, 100.0, 0.0), lift=True, turn_ra
     the fingers closed). Each fingertip ends squeeze_mm inside the box (the multi-finger
     method lifts only once friction can carry the weight: m g / (2 mu k) each, 12 mm for the
     2 kg cylinder). Returns (keys, frame Placement)."""
-    box = global_bound_box(obj)
+    box = global_bound_box(part)
     half = 0.5 * box.XLength
     open_, inside = half + 20.0, half - 0.5 * squeeze_mm
     squeezed = half - squeeze_mm
