@@ -48,9 +48,9 @@ class _HapticGraspController:
 
     @classmethod
     def start(cls):
-        """Start: the part models are built on the core's worker thread while the timer
-        shows the progress in the task panel (its Cancel, Stop or closing the panel cancels
-        the build); the servo loop starts when the build has finished."""
+        """Start: the servo loop runs at once on every part's bounding box; the part models
+        are built in the background, nearest the hand first, each distinct shape once, and
+        each part is felt through its own model as soon as it is in (the panel counts them)."""
         from PySide2 import QtCore
         doc = App.ActiveDocument
         if doc is None:
@@ -58,17 +58,15 @@ class _HapticGraspController:
             return
         cls.stop()
         cls.selected = list(Gui.Selection.getSelection())   # the demo hand's target, if a part
-        session = hs.HapticSession(doc, wait=False)
+        session = hs.HapticSession(doc, wait=False, scene=True)
         cls.session = session
         cls.show_panel()
-        if cls.panel is not None:
-            cls.panel.set_building(True)
-            cls.panel.show_build(*session.build_progress())
         cls.timer = QtCore.QTimer()
-        cls.timer.setInterval(20)  # 50 Hz: build progress, then the session's tick
+        cls.timer.setInterval(20)  # 50 Hz: the session's tick (it hands the build its shapes)
         cls.timer.timeout.connect(cls.tick)
         cls.timer.start()
-        App.Console.PrintMessage("HapticGrasp: building the models of %d part(s)\n" % session.build_progress()[1])
+        App.Console.PrintMessage("HapticGrasp: %d part(s), their models built in the background\n" % len(session.parts))
+        cls._launch()
 
     @classmethod
     def cancel_build(cls):

@@ -135,7 +135,7 @@ class HapticTaskPanel:
         for key, title in (("device", "Device"), ("state", "State"), ("part", "Grasped part"),
                            ("index", "Index force"), ("thumb", "Thumb force"), ("grip", "Grasping force"),
                            ("rate", "Servo rate"), ("jitter", "Servo jitter"), ("time", "Servo time"),
-                           ("moves", "Moves / faults"), ("sound", "Sound")):
+                           ("moves", "Moves / faults"), ("models", "Exact models"), ("sound", "Sound")):
             label = QtWidgets.QLabel("-")
             label.setObjectName("HapticGrasp_" + key)
             grid.addRow(title + ":", label)
@@ -280,5 +280,8 @@ class HapticTaskPanel:
         f["jitter"].setText("%.1f us" % jitter if jitter is not None else NOT_EXPOSED)
         f["time"].setText("%.2f s (tick %d)" % (snap.get("time_s", 0.0), snap.get("tick", 0)))
         f["moves"].setText("%d / %d" % (session.moves, snap.get("faults", 0)))
+        exact, parts = snap.get("exact_parts", 0), len(session.parts)
+        f["models"].setText("%d of %d parts" % (exact, parts) if exact >= parts
+                            else "%d of %d parts (the others felt as their boxes until built)" % (exact, parts))
         if sounds is not None:
             f["sound"].setText("on" if sounds.available else "silent (no audio output ready)")

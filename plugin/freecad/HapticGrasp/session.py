@@ -534,11 +534,15 @@ def part_request(ref, default_density=DEFAULT_DENSITY_KG_M3, shape=None):
 class HapticSession:
     """One session: the visible solids of `doc`, a device, the servo thread."""
 
-    def __init__(self, doc, default_density=DEFAULT_DENSITY_KG_M3, wait=True):
-        """Collects the parts and starts building their models on the core's worker thread
-        (ModelBuild: OpenCASCADE checks and penetration models, no GIL held). wait=True
-        (scripts, tests) blocks until built, the GIL released; wait=False (the GUI) returns
-        at once: poll_build() from a timer, then start() once `ready`."""
+    def __init__(self, doc, default_density=DEFAULT_DENSITY_KG_M3, wait=True, scene=False):
+        """Collects the parts. scene=True (the workbench's Start): nothing is built now;
+        start() runs the servo at once on every part's bounding box and tick() hands the
+        core each distinct shape (share_key) as the background build asks for it, nearest
+        the hand first, within EXPORT_BUDGET_S per tick. Otherwise the models are built
+        first on the core's worker thread (ModelBuild: OpenCASCADE checks and penetration
+        models, no GIL held): wait=True (scripts, tests) blocks until built, the GIL
+        released; wait=False returns at once: poll_build() from a timer, then start() once
+        `ready`."""
         self.doc = doc
         self.default_density = default_density
         self.messages = []        # what was said in the report view, for tests and the panel
@@ -565,7 +569,16 @@ class HapticSession:
         self._candidates = collect_solids(doc, self.messages)
         self._requested = []   # (PartRef, the shape exported), in the build's request order
         self._next = 0         # candidates exported so far
-        if wait:
+        self.scene = scene
+        self.build = None
+        self._said_models = set()   # scene mode: models whose report line was said
+        self._sweep = 0             # scene mode: the next part the edit watch looks at
+        self._changed = set()       # scene mode: parts whose shape changed (said once)
+        if scene:
+            self.parts = list(self._candidates)
+            self.shapes = [None] * len(self.parts)   # read as the sweep comes by
+            self.rebuilt = [0] * len(self.parts)
+        elif wait:
             self.build = core.ModelBuild([r for r in map(self._export, self._candidates) if r is not None])
             self._next = len(self._candidates)
             self.build.wait()
@@ -604,10 +617,73 @@ class HapticSession:
         if self._next == len(self._candidates):
             self.build.close()
 
+    # --- scene mode -------------------------------------------------------------------
+    def _scene_requests(self):
+        """Per part: (name, share key, box min, box max in its own frame (mm), global base,
+        quaternion, density). The boxes come straight from the shapes (no model)."""
+        requests = []
+        for ref in self.parts:
+            shape = ref.global_shape()
+            local = shape.copy(False)   # shares the geometry
+            local.Placement = App.Placement()
+            box = local.BoundBox
+            base, quaternion = placement_numbers(shape.Placement)
+            requests.append((ref.label, share_key(ref), (box.XMin, box.YMin, box.ZMin), (box.XMax, box.YMax, box.ZMax),
+                             base, quaternion, density_of(ref, self.default_density)))
+        return requests
+
+    def feed_shapes(self, budget_s=None):
+        """Scene mode, GUI timer: exports the shapes the background build asks for (nearest
+        the hand first) within budget_s, and says once per model which back end answers it.
+        Returns how many shapes were handed over."""
+        import time
+        budget_s = self.EXPORT_BUDGET_S if budget_s is None else budget_s
+        start, fed = time.monotonic(), 0
+        while time.monotonic() - start < budget_s:
+            wanted = self.core.wanted_shapes(4)
+            if not wanted:
+                break
+            for model in wanted:
+                ref = self.parts[self.core.first_part_of_model(model)]
+                try:
+                    brep = shape_brep(ref.global_shape())
+                except Exception as e:   # the part keeps its box
+                    brep = ""
+                    _warn(self.messages, "%s: its shape cannot be exported (%s): it is felt as its box" % (ref.label, e))
+                self.core.provide_shape(model, brep)
+                fed += 1
+                if time.monotonic() - start >= budget_s:
+                    break
+        self._say_models()
+        return fed
+
+    def _say_models(self):
+        status = self.core.scene_status()
+        if status["built"] + status["failed"] == len(self._said_models):
+            return
+        for model in range(status["models"]):
+            if model in self._said_models:
+                continue
+            info = self.core.model_info(model)
+            if info["backend"] == "box" and not info["error"]:
+                continue   # still waiting or building
+            self._said_models.add(model)
+            first = self.core.first_part_of_model(model)
+            label = self.parts[first].label
+            count = sum(1 for i in range(len(self.parts)) if self.core.model_of_part(i) == model)
+            if count > 1:
+                label += " (and %d more parts of the same shape)" % (count - 1)
+            _say_part(self.part_reports, label, info)
+
+    def scene_progress(self):
+        """Scene mode: (parts answered by their own model, parts)."""
+        status = self.core.scene_status()
+        return status["exact_parts"], status["parts"]
+
     # --- model build ------------------------------------------------------------------
     @property
     def ready(self):
-        """The models are built and in the core: start() may be called."""
+        """The models are built and in the core (scene mode: at once): start() may be called."""
         return self.build is None and not self.cancelled
 
     def build_progress(self):
@@ -777,7 +853,11 @@ class HapticSession:
         self.parameters = stored_parameters() if parameters is None else dict(parameters)
         self.core.set_parameters(self.parameters)
         self.core.set_method(stored_method() if method is None else method)
-        self.core.start(rate_hz, realtime)
+        if self.scene:
+            self.core.start_scene(self._scene_requests(), rate_hz, realtime)
+            self.feed_shapes()
+        else:
+            self.core.start(rate_hz, realtime)
 
     def stop(self):
         """Stops the servo thread; a manipulation still open is committed where it is.
@@ -836,9 +916,52 @@ class HapticSession:
                 self._apply(snap)
                 self._commit()
         self.state = state
-        if self.core.running:
+        if self.core.running and self.scene:
+            self.feed_shapes()
+            self._watch_scene(state, snap)
+        elif self.core.running:
             self._watch_edits(state, snap)
         return snap
+
+    WATCH_BUDGET_S = 0.003   # scene mode: the edit watch's share of a GUI tick
+
+    def _watch_scene(self, state, snap):
+        """Scene mode: the edit watch of _watch_edits, a few parts per tick (round robin
+        within WATCH_BUDGET_S), so that a thousand parts cost the GUI no more than ten. A
+        part placed elsewhere by the document restarts the loop with every part where the
+        core or the document has it; a changed shape is said once (its model stays until
+        the next Start)."""
+        import time
+        if not self.parts:
+            return
+        start, moved = time.monotonic(), {}
+        for _ in range(len(self.parts)):
+            if time.monotonic() - start > self.WATCH_BUDGET_S:
+                break
+            index = self._sweep
+            self._sweep = (self._sweep + 1) % len(self.parts)
+            ref = self.parts[index]
+            try:
+                shape = ref.global_shape()
+            except Exception:   # deleted meanwhile: it stays where the core has it
+                continue
+            if self.shapes[index] is None:
+                self.shapes[index] = shape
+            elif not shape.isPartner(self.shapes[index]) and index not in self._changed:
+                self._changed.add(index)
+                _warn(self.messages, "%s changed: its new shape is felt from the next Start" % ref.label)
+            if self.active is None and state not in HOLDING:
+                core_placement = to_placement(snap["placements"][index])
+                if not same_placement(shape.Placement, core_placement, 1e-6):
+                    moved[index] = shape.Placement
+        if not moved:
+            return
+        placements = [placement_numbers(moved[i]) if i in moved else tuple(p)
+                      for i, p in enumerate(snap["placements"])]
+        self.core.restart(placements)
+        self.restarts += 1
+        _warn(self.messages, "%s moved in the document: haptics restarted with the parts where the document has them"
+              % ", ".join(self.parts[i].label for i in sorted(moved)))
 
     # --- edits while running ----------------------------------------------------------
     def _watch_edits(self, state, snap):

@@ -107,13 +107,59 @@ TEST(SceneBuild, AShapeThatFailsKeepsItsStandInAndSaysWhy) {
   EXPECT_EQ(models[build.modelOf(2)].error, "not a solid: an open shell");
 }
 
-TEST(SceneBuild, RefusesPartsWithoutABoxOrALoader) {
+TEST(SceneBuild, RefusesPartsWithoutABox) {
   auto parts = row(2, 2);
   parts[1].bounds = geometry::Aabb{};
   EXPECT_THROW(SceneBuild{std::move(parts)}, std::invalid_argument);
-  parts = row(2, 2);
-  parts[0].load = nullptr;
-  EXPECT_THROW(SceneBuild{std::move(parts)}, std::invalid_argument);
+}
+
+// The workbench hands shapes over as it exports them: the build asks for the nearest first
+// and waits for them; the servo's scene meanwhile answers with the stand-ins.
+TEST(SceneBuild, ShapesThatComeLaterAreAskedForNearestFirst) {
+  auto parts = row(6, 3);
+  std::vector<std::function<geometry::PartModelPtr()>> loads;
+  for (auto& p : parts) {
+    loads.push_back(p.load);
+    p.load = nullptr;
+  }
+  SceneBuild build(std::move(parts));
+  build.setFocus(Vec3(0.5, 0, 0));  // part 5 (shape 2), then 4 (shape 1), then 3 (shape 0)
+  EXPECT_EQ(build.awaitingShapes(10), (std::vector<std::size_t>{2, 1, 0}));
+  EXPECT_EQ(build.awaitingShapes(1), (std::vector<std::size_t>{2}));
+  EXPECT_FALSE(build.wait(0.05));  // nothing to build yet: it waits
+  build.provide(2, loads[2]);
+  EXPECT_THROW(build.provide(2, loads[2]), std::logic_error);
+  while (build.progress().built < 1) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  EXPECT_FALSE(build.scene()->part(5).coarse);
+  EXPECT_FALSE(build.scene()->part(2).coarse);
+  EXPECT_TRUE(build.scene()->part(4).coarse);
+  EXPECT_EQ(build.awaitingShapes(10), (std::vector<std::size_t>{1, 0}));
+  build.provide(0, loads[0]);
+  build.provide(1, loads[1]);
+  ASSERT_TRUE(build.wait(60));
+  EXPECT_EQ(build.progress().exactParts, 6u);
+}
+
+// A restart with the parts elsewhere: a new scene with the models so far, and the later
+// ones published to it too.
+TEST(SceneBuild, ARebasedSceneGetsTheModelsStillToCome) {
+  auto parts = row(4, 4);
+  auto late = parts[3].load;
+  parts[3].load = nullptr;
+  SceneBuild build(std::move(parts));
+  while (build.progress().built < 3) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  std::vector<PartPose> poses(4);
+  poses[3].position = Vec3(0, 1, 0);
+  const ScenePtr moved = build.rebase(poses);
+  EXPECT_EQ(build.scene(), moved);
+  EXPECT_FALSE(moved->part(0).coarse);
+  EXPECT_TRUE(moved->part(3).coarse);
+  EXPECT_EQ(moved->part(3).initialPose.position.y(), 1);
+  EXPECT_THROW(build.rebase(std::vector<PartPose>(3)), std::invalid_argument);
+  build.provide(3, late);
+  ASSERT_TRUE(build.wait(60));
+  EXPECT_FALSE(moved->part(3).coarse);
+  EXPECT_EQ(moved->part(3).initialPose.position.y(), 1);
 }
 
 TEST(SceneBuild, CancelStopsAfterTheModelInProgress) {
