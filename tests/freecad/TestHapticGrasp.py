@@ -1042,6 +1042,91 @@ class Assemblies(unittest.TestCase):
         self.assertEqual(len({keys["Cylinder"], keys["Block"], keys["Twin"]}), 3)
 
 
+class LargeScenes(unittest.TestCase):
+    """A document of a thousand parts, as the workbench's Start runs it (scene mode): the
+    servo starts on the parts' boxes, each distinct shape is built once in the background,
+    and a link among them is grasped, carried and put down as one undo step."""
+
+    setUp = HapticGraspDocument.setUp
+    tearDown = HapticGraspDocument.tearDown
+
+    COPIES = 56   # x 18 solids of AS1 = 1,008 parts
+
+    def add_as1_copies(self):
+        """The AS1 assembly's 18 solids as App::Links to one hidden source per distinct
+        shape (5), COPIES times along x, 2 m away from the cylinder."""
+        step = Part.Shape()
+        step.read(os.path.join(os.environ.get("HG_TEST_DATA_DIR", ""), "as1-oc-214.stp"))
+        sources = []   # (a solid of that shape, its source object)
+        for solid in step.Solids:
+            match = [obj for first, obj in sources if first.isPartner(solid)]
+            if match:
+                continue
+            local = solid.copy(False)
+            local.Placement = App.Placement()
+            obj = self.doc.addObject("Part::Feature", "AS1Shape%d" % len(sources))
+            obj.Shape = local
+            obj.Visibility = False
+            sources.append((solid, obj))
+        pitch = step.BoundBox.XLength * 1.2
+        for c in range(self.COPIES):
+            for i, solid in enumerate(step.Solids):
+                source = [obj for first, obj in sources if first.isPartner(solid)][0]
+                link = self.doc.addObject("App::Link", "AS1c%ds%d" % (c, i))
+                link.LinkedObject = source
+                link.Placement = App.Placement(solid.Placement.Base + App.Vector(c * pitch, 2000, 0),
+                                               solid.Placement.Rotation)
+        return len(sources)
+
+    def test_a_thousand_parts_start_at_once_share_their_models_and_a_link_among_them_is_carried(self):
+        distinct = self.add_as1_copies()
+        self.assertEqual(distinct, 5)
+        self.cylinder.Visibility = False   # felt through a link
+        link = self.doc.addObject("App::Link", "CylinderLink")
+        link.LinkedObject = self.cylinder
+        link.Placement = App.Placement(self.cylinder.Placement)
+        self.doc.recompute()
+        self.doc.clearUndos()
+        source_before, before = App.Placement(self.cylinder.Placement), App.Placement(link.Placement)
+
+        self.session = s = hs.HapticSession(self.doc, scene=True)
+        self.assertEqual(len(s.parts), 18 * self.COPIES + 2)
+        target = [r for r in s.parts if r.label == "CylinderLink"][0]
+        keys, frame = hs.demo_script(target)
+        s.use_hand_script(keys, frame)
+        began = time.monotonic()
+        s.start()
+        start_s = time.monotonic() - began
+        self.assertTrue(s.running)
+        status = s.core.scene_status()
+        self.assertEqual(status["parts"], 18 * self.COPIES + 2)
+        self.assertEqual(status["models"], distinct + 2)   # the 5 shapes, the cylinder, the block
+        states = run(s, s.core.script_duration() + 0.3)
+        deadline = time.monotonic() + 120
+        while not s.core.scene_status()["finished"] and time.monotonic() < deadline:
+            s.tick()
+            time.sleep(TICK_S)
+        status = s.core.scene_status()
+        s.stop()
+        print("scene of %d parts: servo running %.3f s after start(); %d models built, %d parts exact; states %s"
+              % (status["parts"], start_s, status["built"], status["exact_parts"], states))
+        self.assertEqual(status["built"], distinct + 2)
+        self.assertEqual(status["exact_parts"], 18 * self.COPIES + 2)
+        # The AS1 reports: one line per shape, naming how many parts share it.
+        shared = [line for line in s.part_reports if "more parts of the same shape" in line]
+        self.assertEqual(len(shared), distinct, s.part_reports)
+        self.assertIn("MANIPULATE", states)
+        self.assertEqual(s.moves, 1)
+        moved = link.Placement.Base - before.Base
+        self.assertAlmostEqual(moved.x, 0.0, delta=0.5)
+        self.assertAlmostEqual(moved.y, 100.0, delta=0.5)
+        self.assertAlmostEqual(moved.z, 0.0, delta=0.5)
+        self.assertTrue(hs.same_placement(self.cylinder.Placement, source_before, 0.0))
+        self.assertEqual(self.doc.UndoNames, ["Haptic move CylinderLink"])
+        self.doc.undo()
+        self.assertTrue(hs.same_placement(link.Placement, before, 1e-9), link.Placement)
+
+
 class SplitIntoSolids(unittest.TestCase):
     """An object holding several solids is one rigid part and the report view says how to
     split it; split_solids makes one object per solid in one undo step."""
