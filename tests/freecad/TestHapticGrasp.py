@@ -1127,6 +1127,59 @@ class LargeScenes(unittest.TestCase):
         self.assertTrue(hs.same_placement(link.Placement, before, 1e-9), link.Placement)
 
 
+class ModelCacheInTheWorkbench(unittest.TestCase):
+    """Nothing built twice: a second Start takes the models from memory, a new FreeCAD
+    session from the disk cache, and a damaged entry is built again and said so."""
+
+    def setUp(self):
+        self.doc = App.newDocument("HapticGraspCache")
+        # A shape no other test makes (its size from the clock): built the first time here.
+        box = self.doc.addObject("Part::Feature", "OddBox")
+        box.Shape = Part.makeBox(10 + (time.time() % 1.0), 20, 30)
+        self.doc.recompute()
+
+    def tearDown(self):
+        App.closeDocument(self.doc.Name)
+
+    def start_and_finish(self):
+        s = hs.HapticSession(self.doc, scene=True)
+        keys, frame = hs.demo_script(s.parts[0], lift=False)
+        s.use_hand_script(keys, frame)
+        s.start()
+        deadline = time.monotonic() + 60
+        while not s.core.scene_status()["finished"] and time.monotonic() < deadline:
+            s.tick()
+            time.sleep(TICK_S)
+        s.tick()
+        s.stop()
+        self.assertEqual(s.core.scene_status()["exact_parts"], 1)
+        return s
+
+    def test_a_second_start_reuses_the_model_and_a_damaged_entry_is_rebuilt(self):
+        cache_dir = core.model_cache_dir()
+        self.assertTrue(cache_dir)
+        self.assertEqual(self.start_and_finish().model_sources, {0: "built"})
+        self.assertEqual(self.start_and_finish().model_sources, {0: "memory"})
+        core.clear_model_cache_memory()   # as the next FreeCAD session
+        s = self.start_and_finish()
+        self.assertEqual(s.model_sources, {0: "disk"})
+        self.assertTrue(any("from the model cache" in line for line in s.part_reports), s.part_reports)
+        entries = [os.path.join(cache_dir, f) for f in os.listdir(cache_dir) if f.endswith(".hgm")]
+        self.assertTrue(entries)
+        for path in entries:   # damage every entry: one bit in the middle
+            with open(path, "r+b") as f:
+                data = bytearray(f.read())
+                data[len(data) // 2] ^= 0x01
+                f.seek(0)
+                f.write(data)
+        core.clear_model_cache_memory()
+        s = self.start_and_finish()
+        self.assertEqual(s.model_sources, {0: "rebuilt (checksum mismatch)"})
+        self.assertTrue(any("cached model was rebuilt (checksum mismatch)" in m for m in s.messages), s.messages)
+        core.clear_model_cache_memory()
+        self.assertEqual(self.start_and_finish().model_sources, {0: "disk"})   # rewritten whole
+
+
 class SplitIntoSolids(unittest.TestCase):
     """An object holding several solids is one rigid part and the report view says how to
     split it; split_solids makes one object per solid in one undo step."""

@@ -389,6 +389,35 @@ PartModelPtr PartModel::load(const TopoDS_Shape& input, LengthUnit unit, std::st
   return part;
 }
 
+PartModel::Record PartModel::record() const {
+  return {metresPerUnit_, bounds_, volume_m3_, centre_m_, unitDensityInertia_, warnings_, backendChoice_};
+}
+
+PartModelPtr PartModel::restore(const TopoDS_Shape& shape, const Record& r, std::string name) {
+  const Clock::time_point start = Clock::now();
+  if (shape.IsNull()) throw GeometryError("empty shape");
+  std::shared_ptr<PartModel> part(new PartModel);
+  part->name_ = std::move(name);
+  part->metresPerUnit_ = r.metresPerUnit;
+  part->shape_ = shape;
+  try {
+    TopExp::MapShapes(shape, TopAbs_FACE, part->faces_);
+    TopExp::MapShapes(shape, TopAbs_EDGE, part->edges_);
+    TopExp::MapShapes(shape, TopAbs_VERTEX, part->vertices_);
+    part->primitive_ = recognisePrimitive(shape, r.metresPerUnit, r.volume_m3);
+  } catch (const Standard_Failure& e) {
+    throw GeometryError(std::string("OpenCASCADE failed on the shape: ") + e.GetMessageString());
+  }
+  part->bounds_ = r.bounds;
+  part->volume_m3_ = r.volume_m3;
+  part->centre_m_ = r.centre_m;
+  part->unitDensityInertia_ = r.unitDensityInertia;
+  part->warnings_ = r.warnings;
+  part->backendChoice_ = r.choice;
+  part->timing_.total_s = secondsSince(start);
+  return part;
+}
+
 MassProperties PartModel::massProperties(const MassSpec& spec) const {
   if (!(spec.value > 0)) throw GeometryError("mass and density must be positive");
   const double density = spec.kind == MassSpec::Kind::Density ? spec.value : spec.value / volume_m3_;

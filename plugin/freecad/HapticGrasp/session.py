@@ -572,6 +572,7 @@ class HapticSession:
         self.scene = scene
         self.build = None
         self._said_models = set()   # scene mode: models whose report line was said
+        self.model_sources = {}     # scene mode: model -> "built", "memory", "disk", "rebuilt (why)"
         self._sweep = 0             # scene mode: the next part the edit watch looks at
         self._changed = set()       # scene mode: parts whose shape changed (said once)
         if scene:
@@ -673,7 +674,12 @@ class HapticSession:
             count = sum(1 for i in range(len(self.parts)) if self.core.model_of_part(i) == model)
             if count > 1:
                 label += " (and %d more parts of the same shape)" % (count - 1)
+            if info["source"] in ("memory", "disk"):
+                info["backend_reason"] += " (checked before: from the model cache)"
+            elif info["source"].startswith("rebuilt"):
+                _warn(self.messages, "%s: its cached model was %s" % (label, info["source"]))
             _say_part(self.part_reports, label, info)
+            self.model_sources[model] = info["source"]
 
     def scene_progress(self):
         """Scene mode: (parts answered by their own model, parts)."""

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "hapticgrasp/geometry/backends.hpp"
+#include "hapticgrasp/geometry/model_cache.hpp"
 #include "hapticgrasp/grasp/grasp_state.hpp"
 #include "hapticgrasp/grasp/scene.hpp"
 
@@ -505,7 +506,24 @@ void Session::provideShape(std::size_t model, std::string brep) {
   if (!build_) throw std::logic_error("not a scene session: startScene() first");
   const std::string name = sceneRequests_.at(firstPartOfModel(model)).name;
   auto text = std::make_shared<const std::string>(std::move(brep));
-  build_->provide(model, [text, name] { return loadPart(*text, name); });
+  auto sources = cacheSources_;
+  build_->provide(model, [text, name, model, sources] {
+    // Seen before (this Start, an earlier one, another FreeCAD session): not checked again.
+    geometry::PartModel::LoadOptions options;
+    options.parallel = false;  // beside a GUI and the servo thread
+    geometry::ModelCache::Outcome outcome;
+    auto part = geometry::ModelCache::shared().load(*text, kDocumentUnit, name, options, &outcome);
+    std::lock_guard lock(sources->mutex);
+    sources->byModel[model] = std::string(geometry::toString(outcome.source)) +
+                              (outcome.note.empty() ? "" : " (" + outcome.note + ")");
+    return part;
+  });
+}
+
+std::string Session::modelSource(std::size_t model) const {
+  std::lock_guard lock(cacheSources_->mutex);
+  const auto found = cacheSources_->byModel.find(model);
+  return found == cacheSources_->byModel.end() ? std::string() : found->second;
 }
 
 SceneStatus Session::sceneStatus() const {

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <condition_variable>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -264,6 +265,9 @@ class Session {
   // Model m's shape, BREP text in mm without placement (parsed on a worker).
   void provideShape(std::size_t model, std::string brep);
   SceneStatus sceneStatus() const;
+  // Where model m came from: "built", "memory" or "disk" (the model cache), "rebuilt
+  // (why)" for a cache entry not trusted; "" while waiting.
+  std::string modelSource(std::size_t model) const;
   // A built model's summary (its first part's mass), or its error (`error` set).
   PartInfo modelInfo(std::size_t model, std::string* error = nullptr) const;
   void stop() noexcept;
@@ -303,6 +307,11 @@ class Session {
   std::vector<SceneRequest> sceneRequests_;
   std::vector<std::pair<std::string, std::string>> backends_;  // scene mode, per part
   std::vector<bool> describedModel_;
+  struct CacheSources {  // written by the build's workers
+    std::mutex mutex;
+    std::map<std::size_t, std::string> byModel;
+  };
+  std::shared_ptr<CacheSources> cacheSources_ = std::make_shared<CacheSources>();
   std::size_t exactParts_ = 0;
 };
 

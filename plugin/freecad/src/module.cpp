@@ -11,6 +11,7 @@
 #include "haptic_session.hpp"
 #include "hapticgrasp/geometry/backends.hpp"
 #include "hapticgrasp/geometry/geometry_error.hpp"
+#include "hapticgrasp/geometry/model_cache.hpp"
 #include "hid_input.hpp"
 
 namespace py = pybind11;
@@ -386,9 +387,12 @@ PYBIND11_MODULE(_hapticgrasp, m) {
             std::string error;
             py::dict d = infoDict(s.modelInfo(model, &error));
             d["error"] = error;
+            d["source"] = s.modelSource(model);
             return d;
           },
-          py::arg("model"), "Scene mode: a model's summary as part_info gives it, and 'error' if it failed.")
+          py::arg("model"),
+          "Scene mode: a model's summary as part_info gives it, 'error' if it failed, and 'source': built, memory "
+          "or disk (the model cache), rebuilt (a cache entry not trusted, and why).")
       .def("stop", &freecad::Session::stop, py::call_guard<py::gil_scoped_release>())
       .def_property_readonly("running", &freecad::Session::running)
       .def("set_device_silent", &freecad::Session::setDeviceSilent)
@@ -436,6 +440,12 @@ PYBIND11_MODULE(_hapticgrasp, m) {
           "grasping force (N), the hand (index, thumb, wrist; mm), every fingertip in use (mm) and "
           "its force (N), the method, the servo rate (Hz), its period jitter (p99, us), and every part's "
           "(penetration back end, why) in part order.");
+
+  m.def("model_cache_dir", [] { return geometry::ModelCache::defaultDir().string(); },
+        "Where checked part models are cached on disk ('' when off): $HAPTICGRASP_CACHE_DIR, else "
+        "$XDG_CACHE_HOME/hapticgrasp/models, else ~/.cache/hapticgrasp/models.");
+  m.def("clear_model_cache_memory", [] { geometry::ModelCache::shared().clearMemory(); },
+        "Forgets the models kept in memory (the disk cache stays): as a new FreeCAD session would start.");
 
   py::dict events;
   for (int bit = 0; bit < grasp::kEventCount; ++bit)

@@ -91,6 +91,22 @@ class PartModel {
   const BackendChoice& backendChoice() const { return backendChoice_; }
   const PartLoadTiming& loadTiming() const { return timing_; }
 
+  // What the load found, besides the shape (model_cache.hpp stores it with the checked
+  // shape): restoring a part from it skips the checks, the healing and the mass integrals.
+  struct Record {
+    double metresPerUnit = 1.0;
+    Aabb bounds;
+    double volume_m3 = 0;
+    Vec3 centre_m = Vec3::Zero();
+    Mat3 unitDensityInertia = Mat3::Zero();
+    std::vector<std::string> warnings;
+    BackendChoice choice;
+  };
+  Record record() const;
+  // A part from a shape this class checked before (its shape()) and that check's record.
+  // Trusts both: the caller must have verified them (the cache checksums its entries).
+  static PartModelPtr restore(const TopoDS_Shape& checkedShape, const Record& record, std::string name);
+
  private:
   PartModel() = default;
   // Checks and models a shape whose reading took read_s, the whole load having begun at start.
