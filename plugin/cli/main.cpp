@@ -189,6 +189,8 @@ int main(int argc, char** argv) {
   sceneBench->add_option("--rate", sceneOptions.rate_hz, "Servo rate, Hz (50-10000)")->capture_default_str();
   sceneBench->add_option("--workers", sceneOptions.workers, "Threads building models")->capture_default_str()->check(
       CLI::Range(1, 64));
+  sceneBench->add_flag("!--no-sharing", sceneOptions.share,
+                       "Build every copy's models apart, as if no two parts were the same shape");
   sceneBench->add_flag("--json", json, "Print JSON");
 
   CLI::App* devices = app.add_subcommand("devices", "List HID devices and which back end or layout matches each");

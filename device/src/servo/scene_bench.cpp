@@ -151,7 +151,7 @@ SceneBenchResult runSceneBench(const SceneBenchOptions& o) {
     for (std::size_t i = 0; i < solids.size(); ++i) {
       grasp::PartSource p;
       p.name = "solid " + std::to_string(i + 1) + " copy " + std::to_string(c + 1);
-      p.key = solids[i].key;
+      p.key = o.share ? solids[i].key : solids[i].key + " copy " + std::to_string(c);
       p.bounds = solids[i].box;
       p.pose = solids[i].pose;
       p.pose.position.x() += c * pitch;

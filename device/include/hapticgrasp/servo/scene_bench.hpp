@@ -24,6 +24,7 @@ struct SceneBenchOptions {
   double seconds = 5;      // servo time at least (longer until every model is built)
   double rate_hz = 2000;
   int workers = 1;         // model-building threads
+  bool share = true;       // copies share their shapes' models (false: every copy built apart)
   bool realtime = true;
   AllocationCounter allocationCounter = nullptr;
 };
