@@ -1127,6 +1127,66 @@ class LargeScenes(unittest.TestCase):
         self.assertTrue(hs.same_placement(link.Placement, before, 1e-9), link.Placement)
 
 
+class SceneEdits(unittest.TestCase):
+    """Scene mode while running: an edited part gets its own model, felt without a restart;
+    a part moved in the document restarts the loop with it where the document has it."""
+
+    def setUp(self):
+        self.doc = App.newDocument("HapticGraspSceneEdits")
+        self.box = self.doc.addObject("Part::Box", "Box")   # 10 x 10 x 10 mm at the origin
+        self.box.Length = self.box.Width = self.box.Height = 10
+        self.other = self.doc.addObject("Part::Box", "Other")
+        self.other.Placement.Base = App.Vector(100, 0, 0)
+        self.doc.recompute()
+        self.session = None
+
+    def tearDown(self):
+        if self.session is not None:
+            self.session.core.stop()
+        App.closeDocument(self.doc.Name)
+
+    def hold_hand(self, s, index, seconds):
+        """The index at `index` (mm) for `seconds` of ticks; returns the last snapshot."""
+        deadline = time.monotonic() + seconds
+        snap = None
+        while time.monotonic() < deadline:
+            s.set_hand(index, (-200, 0, 5), (-200, 0, 100))
+            snap = s.tick()
+            time.sleep(TICK_S)
+        return snap
+
+    def test_an_edited_part_is_felt_through_its_new_model_without_a_restart(self):
+        self.session = s = hs.HapticSession(self.doc, scene=True)
+        s.use_hand_input(hold_s=0.5)
+        s.start()
+        tip = (15, 5, 5)   # 5 mm beyond the box's +x face
+        deadline = time.monotonic() + 30
+        while not s.core.scene_status()["finished"] and time.monotonic() < deadline:
+            self.hold_hand(s, tip, 0.05)
+        self.assertEqual(self.hold_hand(s, tip, 0.2)["state"], "FREE")
+        self.box.Length = 20   # now the tip is 5 mm inside
+        self.doc.recompute()
+        restarts = s.restarts
+        deadline = time.monotonic() + 30
+        snap = None
+        while time.monotonic() < deadline:
+            snap = self.hold_hand(s, tip, 0.05)
+            if snap["state"] == "INDEX CONTACT":
+                break
+        self.assertEqual(snap["state"], "INDEX CONTACT")
+        self.assertEqual(s.rebuilt[0], 1)
+        self.assertEqual(s.restarts, restarts)   # swapped in, no restart
+        self.assertIn("Box rebuilt: its new shape is felt now", s.messages)
+        self.assertEqual(snap["backends"][0][0], "analytic")
+        # Moved in the document: the loop restarts with it there.
+        self.other.Placement.Base = App.Vector(0, 0, 50)
+        self.doc.recompute()
+        snap = self.hold_hand(s, (5, 5, 55), 0.5)
+        self.assertEqual(s.restarts, restarts + 1)
+        self.assertEqual(snap["state"], "INDEX CONTACT")
+        s.stop()
+
+
 class ModelCacheInTheWorkbench(unittest.TestCase):
     """Nothing built twice: a second Start takes the models from memory, a new FreeCAD
     session from the disk cache, and a damaged entry is built again and said so."""

@@ -210,6 +210,16 @@ void SceneBuild::publish(std::size_t m) {
   }
 }
 
+void SceneBuild::replace(std::size_t part, ScenePart models) {
+  std::lock_guard lock(mutex_);
+  if (part >= sources_.size()) throw std::out_of_range("no part " + std::to_string(part));
+  const bool wasExact = !scenes_.back()->part(part).coarse;
+  for (const ScenePtr& scene : scenes_) scene->publish(part, models);  // validates first: throws, nothing changed
+  std::vector<std::size_t>& shared = models_[modelOf_[part]].parts;
+  shared.erase(std::remove(shared.begin(), shared.end(), part), shared.end());
+  if (!wasExact) ++exactParts_;
+}
+
 SceneBuild::Progress SceneBuild::progress() const {
   std::lock_guard lock(mutex_);
   Progress p;

@@ -574,7 +574,6 @@ class HapticSession:
         self._said_models = set()   # scene mode: models whose report line was said
         self.model_sources = {}     # scene mode: model -> "built", "memory", "disk", "rebuilt (why)"
         self._sweep = 0             # scene mode: the next part the edit watch looks at
-        self._changed = set()       # scene mode: parts whose shape changed (said once)
         if scene:
             self.parts = list(self._candidates)
             self.shapes = [None] * len(self.parts)   # read as the sweep comes by
@@ -931,12 +930,42 @@ class HapticSession:
 
     WATCH_BUDGET_S = 0.003   # scene mode: the edit watch's share of a GUI tick
 
+    def _rebuild(self, index, ref, shape):
+        """Scene mode: part `index`'s shape was edited: its own model is built off the GUI
+        thread (an earlier rebuild in flight is dropped)."""
+        self.shapes[index] = shape
+        previous = self.rebuilds.pop(index, None)
+        if previous is not None:
+            drain(previous[0])
+        if shape.isNull():
+            _warn(self.messages, "%s changed to an empty shape: keeping its previous model" % ref.label)
+            return
+        self.rebuilds[index] = (core.ModelBuild([part_request(ref, self.default_density, shape)]), ref.label)
+        _warn(self.messages, "%s changed: rebuilding its model" % ref.label)
+
+    def _swap_rebuilt(self):
+        """Scene mode: finished rebuilds are felt from the next servo tick, held or not (a
+        held part keeps the weight it was lifted with)."""
+        for index in sorted(self.rebuilds):
+            build, label = self.rebuilds[index]
+            if not build.progress()["finished"]:
+                continue
+            del self.rebuilds[index]
+            errors = build.errors()
+            if errors:
+                _warn(self.messages, "rebuild of %s failed: %s; keeping its previous model" % (label, errors[0][2]))
+                continue
+            info = self.core.replace_scene_part(index, build)
+            self.rebuilt[index] += 1
+            _say_part(self.part_reports, label, info)
+            _warn(self.messages, "%s rebuilt: its new shape is felt now" % label)
+
     def _watch_scene(self, state, snap):
         """Scene mode: the edit watch of _watch_edits, a few parts per tick (round robin
         within WATCH_BUDGET_S), so that a thousand parts cost the GUI no more than ten. A
         part placed elsewhere by the document restarts the loop with every part where the
-        core or the document has it; a changed shape is said once (its model stays until
-        the next Start)."""
+        core or the document has it (when no part is held); a part whose shape changed
+        gets its own model rebuilt off the GUI thread and felt as soon as it is built."""
         import time
         if not self.parts:
             return
@@ -953,13 +982,13 @@ class HapticSession:
                 continue
             if self.shapes[index] is None:
                 self.shapes[index] = shape
-            elif not shape.isPartner(self.shapes[index]) and index not in self._changed:
-                self._changed.add(index)
-                _warn(self.messages, "%s changed: its new shape is felt from the next Start" % ref.label)
+            elif not shape.isPartner(self.shapes[index]):
+                self._rebuild(index, ref, shape)
             if self.active is None and state not in HOLDING:
                 core_placement = to_placement(snap["placements"][index])
                 if not same_placement(shape.Placement, core_placement, 1e-6):
                     moved[index] = shape.Placement
+        self._swap_rebuilt()
         if not moved:
             return
         placements = [placement_numbers(moved[i]) if i in moved else tuple(p)

@@ -526,6 +526,22 @@ std::string Session::modelSource(std::size_t model) const {
   return found == cacheSources_->byModel.end() ? std::string() : found->second;
 }
 
+PartInfo Session::replaceScenePart(std::size_t part, ModelBuild& build) {
+  if (!build_) throw std::logic_error("not a scene session: startScene() first");
+  if (part >= sceneRequests_.size()) throw std::out_of_range("no part " + std::to_string(part));
+  const ModelBuild::Progress progress = build.progress();
+  if (!progress.finished || progress.cancelled) throw std::logic_error("the model build did not finish");
+  const auto outcomes = build.outcomes();
+  if (outcomes.size() != 1) throw std::logic_error("a part is replaced by a build of one part");
+  if (!outcomes[0].built) throw std::logic_error("the rebuild of " + outcomes[0].name + " failed: " + outcomes[0].error);
+  BuiltPart built = build.take(0);
+  grasp::ScenePart models = built.part;
+  models.initialPose = {};  // each scene keeps the part's own pose
+  build_->replace(part, std::move(models));
+  backends_[part] = {built.info.backend, built.info.backendReason};
+  return built.info;
+}
+
 SceneStatus Session::sceneStatus() const {
   if (!build_) throw std::logic_error("not a scene session: startScene() first");
   const grasp::SceneBuild::Progress p = build_->progress();
@@ -545,7 +561,8 @@ PartInfo Session::modelInfo(std::size_t model, std::string* error) const {
                                                                                : kStandInReason;
     return info;
   }
-  return describe(*m.model, sceneRequests_.at(m.parts.front()).mass, *m.penetration);
+  const geometry::MassSpec mass = m.parts.empty() ? geometry::MassSpec{} : sceneRequests_.at(m.parts.front()).mass;
+  return describe(*m.model, mass, *m.penetration);
 }
 
 // The parts whose model came in since the last snapshot get their back end's line.

@@ -265,6 +265,10 @@ class Session {
   // Model m's shape, BREP text in mm without placement (parsed on a worker).
   void provideShape(std::size_t model, std::string brep);
   SceneStatus sceneStatus() const;
+  // Scene mode, any time: part `part`'s shape was edited; it gets the model a finished
+  // one-part ModelBuild built, from the servo's next tick (no restart: a held part keeps
+  // the weight it was lifted with). Returns the new model's summary.
+  PartInfo replaceScenePart(std::size_t part, ModelBuild& build);
   // Where model m came from: "built", "memory" or "disk" (the model cache), "rebuilt
   // (why)" for a cache entry not trusted; "" while waiting.
   std::string modelSource(std::size_t model) const;

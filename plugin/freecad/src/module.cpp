@@ -363,6 +363,14 @@ PYBIND11_MODULE(_hapticgrasp, m) {
           "identical shapes. Each distinct shape's model is built in the background once its shape comes "
           "(wanted_shapes, provide_shape), nearest the hand first.")
       .def_property_readonly("scene_mode", &freecad::Session::sceneMode)
+      .def(
+          "replace_scene_part",
+          [](freecad::Session& s, std::size_t part, freecad::ModelBuild& build) {
+            return infoDict(s.replaceScenePart(part, build));
+          },
+          py::arg("part"), py::arg("build"),
+          "Scene mode: part `part` (its shape edited) is felt through the model a finished one-part ModelBuild "
+          "built, from the next servo tick; returns its part_info.")
       .def("wanted_shapes", &freecad::Session::wantedShapes, py::arg("limit") = 8,
            "Scene mode: the models waiting for their shape, nearest the hand first.")
       .def("model_of_part", &freecad::Session::modelOfPart, py::arg("part"))

@@ -81,6 +81,10 @@ class SceneBuild {
   // servo restarted with the parts where the document has them); later models are
   // published to it too. Throws std::invalid_argument for a wrong count.
   ScenePtr rebase(const std::vector<PartPose>& poses);
+  // Part i's shape changed (an edit): it leaves its shared model and gets `models` (built
+  // by the caller) in every scene, from the servo's next tick; the build never publishes
+  // its old shape's model to it again. Throws what Scene::publish throws.
+  void replace(std::size_t part, ScenePart models);
   Progress progress() const;
   std::vector<Model> models() const;
   // The model index of part i.
