@@ -20,7 +20,7 @@
 #include "hapticgrasp/geometry/sample_parts.hpp"
 #include "hapticgrasp/geometry/units.hpp"
 #include "hapticgrasp/grasp/hand_script.hpp"
-#include "hapticgrasp/grasp/scene_build.hpp"
+#include "hapticgrasp/scene/scene_build.hpp"
 #include "hapticgrasp/servo/grasp_engine.hpp"
 #include "hapticgrasp/servo/scripted_hand_device.hpp"
 

@@ -931,8 +931,8 @@ class HapticSession:
     WATCH_BUDGET_S = 0.003   # scene mode: the edit watch's share of a GUI tick
 
     def _rebuild(self, index, ref, shape):
-        """Scene mode: part `index`'s shape was edited: its own model is built off the GUI
-        thread (an earlier rebuild in flight is dropped)."""
+        """Part `index`'s shape was edited: its own model is built off the GUI thread (an
+        earlier rebuild in flight is dropped)."""
         self.shapes[index] = shape
         previous = self.rebuilds.pop(index, None)
         if previous is not None:
@@ -1015,17 +1015,8 @@ class HapticSession:
                 shapes.append(None)
                 continue
             shapes.append(shape)
-            if shape.isPartner(self.shapes[index]):
-                continue
-            self.shapes[index] = shape
-            previous = self.rebuilds.pop(index, None)
-            if previous is not None:
-                drain(previous[0])
-            if shape.isNull():
-                _warn(self.messages, "%s changed to an empty shape: keeping its previous model" % ref.label)
-                continue
-            self.rebuilds[index] = (core.ModelBuild([part_request(ref, self.default_density, shape)]), ref.label)
-            _warn(self.messages, "%s changed: rebuilding its model" % ref.label)
+            if not shape.isPartner(self.shapes[index]):
+                self._rebuild(index, ref, shape)
         if _DRAINING:
             drain()
         if self.active is not None or state in HOLDING:

@@ -7,7 +7,7 @@
 #include "hapticgrasp/geometry/backends.hpp"
 #include "hapticgrasp/geometry/model_cache.hpp"
 #include "hapticgrasp/grasp/grasp_state.hpp"
-#include "hapticgrasp/grasp/scene.hpp"
+#include "hapticgrasp/scene/scene.hpp"
 
 namespace hg::freecad {
 
@@ -182,14 +182,23 @@ std::vector<std::pair<std::size_t, int>> Session::addBuilt(ModelBuild& build) {
   return added;
 }
 
-void Session::replacePart(std::size_t index, ModelBuild& build) {
-  if (index >= parts_.size()) throw std::out_of_range("no part " + std::to_string(index));
+namespace {
+
+// The one part a finished rebuild (a one-part ModelBuild) built; throws std::logic_error.
+BuiltPart takeRebuilt(ModelBuild& build) {
   const ModelBuild::Progress progress = build.progress();
   if (!progress.finished || progress.cancelled) throw std::logic_error("the model build did not finish");
   const auto outcomes = build.outcomes();
   if (outcomes.size() != 1) throw std::logic_error("a part is replaced by a build of one part");
   if (!outcomes[0].built) throw std::logic_error("the rebuild of " + outcomes[0].name + " failed: " + outcomes[0].error);
-  BuiltPart built = build.take(0);
+  return build.take(0);
+}
+
+}  // namespace
+
+void Session::replacePart(std::size_t index, ModelBuild& build) {
+  if (index >= parts_.size()) throw std::out_of_range("no part " + std::to_string(index));
+  BuiltPart built = takeRebuilt(build);
   parts_[index] = std::move(built.part);
   infos_[index] = std::move(built.info);
 }
@@ -529,12 +538,7 @@ std::string Session::modelSource(std::size_t model) const {
 PartInfo Session::replaceScenePart(std::size_t part, ModelBuild& build) {
   if (!build_) throw std::logic_error("not a scene session: startScene() first");
   if (part >= sceneRequests_.size()) throw std::out_of_range("no part " + std::to_string(part));
-  const ModelBuild::Progress progress = build.progress();
-  if (!progress.finished || progress.cancelled) throw std::logic_error("the model build did not finish");
-  const auto outcomes = build.outcomes();
-  if (outcomes.size() != 1) throw std::logic_error("a part is replaced by a build of one part");
-  if (!outcomes[0].built) throw std::logic_error("the rebuild of " + outcomes[0].name + " failed: " + outcomes[0].error);
-  BuiltPart built = build.take(0);
+  BuiltPart built = takeRebuilt(build);
   grasp::ScenePart models = built.part;
   models.initialPose = {};  // each scene keeps the part's own pose
   build_->replace(part, std::move(models));

@@ -21,7 +21,7 @@
 #include "hapticgrasp/geometry/part_model.hpp"
 #include "hapticgrasp/geometry/penetration.hpp"
 #include "hapticgrasp/grasp/grasp_parameters.hpp"
-#include "hapticgrasp/grasp/scene_build.hpp"
+#include "hapticgrasp/scene/scene_build.hpp"
 #include "hapticgrasp/servo/pose_tracker.hpp"
 #include "hapticgrasp/servo/scripted_hand_device.hpp"
 #include "hapticgrasp/servo/servo_loop.hpp"

@@ -8,16 +8,16 @@
 #include <vector>
 
 #include "hapticgrasp/geometry/penetration.hpp"
-#include "hapticgrasp/grasp/broad_phase.hpp"
+#include "hapticgrasp/scene/broad_phase.hpp"
 #include "hapticgrasp/grasp/force_laws.hpp"
 #include "hapticgrasp/grasp/grasp_frame.hpp"
 #include "hapticgrasp/grasp/grasp_parameters.hpp"
 #include "hapticgrasp/grasp/grasp_state.hpp"
 #include "hapticgrasp/grasp/hand_sample.hpp"
-#include "hapticgrasp/grasp/model_swaps.hpp"
+#include "hapticgrasp/scene/model_swaps.hpp"
 #include "hapticgrasp/grasp/part_pose.hpp"
 #include "hapticgrasp/grasp/rate_filter.hpp"
-#include "hapticgrasp/grasp/scene.hpp"
+#include "hapticgrasp/scene/scene.hpp"
 
 namespace hg::grasp {
 

@@ -12,7 +12,7 @@
 #include "hapticgrasp/grasp/grasp_state.hpp"
 #include "hapticgrasp/grasp/multi_finger/multi_finger_scene.hpp"
 #include "hapticgrasp/grasp/part_pose.hpp"
-#include "hapticgrasp/grasp/scene.hpp"
+#include "hapticgrasp/scene/scene.hpp"
 
 namespace hg::grasp {
 class TwoFingerGrasp;

@@ -32,7 +32,7 @@
 #include "hapticgrasp/grasp/grasp_state.hpp"
 #include "hapticgrasp/grasp/hand_sample.hpp"
 #include "hapticgrasp/grasp/part_pose.hpp"
-#include "hapticgrasp/grasp/scene.hpp"
+#include "hapticgrasp/scene/scene.hpp"
 #include "hapticgrasp/servo/grasp_engine.hpp"
 #include "hapticgrasp/servo/passivity.hpp"
 #include "hapticgrasp/servo/seqlock.hpp"

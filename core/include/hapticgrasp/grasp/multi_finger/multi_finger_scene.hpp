@@ -35,12 +35,12 @@
 #include <span>
 #include <vector>
 
-#include "hapticgrasp/grasp/broad_phase.hpp"
+#include "hapticgrasp/scene/broad_phase.hpp"
 #include "hapticgrasp/grasp/grasp_state.hpp"
-#include "hapticgrasp/grasp/model_swaps.hpp"
+#include "hapticgrasp/scene/model_swaps.hpp"
 #include "hapticgrasp/grasp/multi_finger/god_object.hpp"
 #include "hapticgrasp/grasp/multi_finger/multi_finger_grasp.hpp"
-#include "hapticgrasp/grasp/scene.hpp"
+#include "hapticgrasp/scene/scene.hpp"
 
 namespace hg::grasp::multi_finger {
 

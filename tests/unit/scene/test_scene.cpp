@@ -1,6 +1,6 @@
 // A scene's models can be swapped while readers use it; bad models are refused; the log of
 // swaps says which part changed, or that it wrapped.
-#include "hapticgrasp/grasp/scene.hpp"
+#include "hapticgrasp/scene/scene.hpp"
 
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <gtest/gtest.h>
@@ -8,7 +8,7 @@
 #include <atomic>
 #include <thread>
 
-#include "hapticgrasp/grasp/model_swaps.hpp"
+#include "hapticgrasp/scene/model_swaps.hpp"
 #include "hapticgrasp/grasp/two_finger_grasp.hpp"
 
 namespace hg::grasp {

@@ -1,6 +1,6 @@
 // A scene touchable at once: stand-ins first, each distinct shape built once, nearest the
 // focus first, failures kept to their parts, the servo never allocating meanwhile.
-#include "hapticgrasp/grasp/scene_build.hpp"
+#include "hapticgrasp/scene/scene_build.hpp"
 
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>

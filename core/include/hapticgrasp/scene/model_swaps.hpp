@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <cstdint>
 
-#include "hapticgrasp/grasp/scene.hpp"
+#include "hapticgrasp/scene/scene.hpp"
 
 namespace hg::grasp {
 

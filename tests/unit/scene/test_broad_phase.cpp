@@ -1,6 +1,6 @@
 // The broad phase answers exactly what a scan of every box answers, before and after parts
 // move, and never allocates doing it.
-#include "hapticgrasp/grasp/broad_phase.hpp"
+#include "hapticgrasp/scene/broad_phase.hpp"
 
 #include <gtest/gtest.h>
 

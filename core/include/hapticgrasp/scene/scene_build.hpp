@@ -23,7 +23,7 @@
 #include "hapticgrasp/geometry/backend.hpp"
 #include "hapticgrasp/geometry/mass_properties.hpp"
 #include "hapticgrasp/geometry/part_model.hpp"
-#include "hapticgrasp/grasp/scene.hpp"
+#include "hapticgrasp/scene/scene.hpp"
 
 namespace hg::grasp {
 

@@ -1,4 +1,4 @@
-#include "hapticgrasp/grasp/scene.hpp"
+#include "hapticgrasp/scene/scene.hpp"
 
 #include "hapticgrasp/geometry/box_penetration.hpp"
 

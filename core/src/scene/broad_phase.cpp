@@ -1,4 +1,4 @@
-#include "hapticgrasp/grasp/broad_phase.hpp"
+#include "hapticgrasp/scene/broad_phase.hpp"
 
 #include <algorithm>
 #include <numeric>

@@ -1,4 +1,4 @@
-#include "hapticgrasp/grasp/scene_build.hpp"
+#include "hapticgrasp/scene/scene_build.hpp"
 
 #include <pthread.h>
 #include <sched.h>
