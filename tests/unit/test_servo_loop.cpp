@@ -651,5 +651,24 @@ TEST(ServoBench, RealThreadAt2And8kHz) {
   }
 }
 
+
+// A real-time servo thread may keep a CPU to itself: it runs pinned there and says so.
+TEST(ServoLoop, RunsOnTheCpuItIsGiven) {
+  const int cpu = servoCpu();
+  if (cpu < 0) GTEST_SKIP() << "one CPU";
+  ServoConfig config;
+  config.rate_hz = 1000;
+  config.realtime = false;
+  config.cpu = cpu;
+  ServoLoop loop(std::make_shared<ScriptedHandDevice>(benchScript()), benchScene(), {}, config);
+  loop.start();
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  loop.stop();
+  EXPECT_EQ(loop.affinity(), "cpu " + std::to_string(cpu));
+  EXPECT_GT(loop.timing().ticks, 10u);
+  config.cpu = CPU_SETSIZE;
+  EXPECT_THROW(config.validate(), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace hg::servo

@@ -26,16 +26,22 @@ std::vector<ScenePart> standIns(const std::vector<PartSource>& sources) {
   return parts;
 }
 
-// Background work yields to everything else on the machine (the servo, the GUI).
-void lowerPriority() noexcept {
+// Background work yields to everything else on the machine (the servo, the GUI), and keeps
+// off the servo's CPU when it has one (if that leaves any other).
+void stayInTheBackground(int avoidCpu) noexcept {
   sched_param param{};
   pthread_setschedparam(pthread_self(), SCHED_IDLE, &param);
+  if (avoidCpu < 0) return;
+  cpu_set_t set;
+  if (pthread_getaffinity_np(pthread_self(), sizeof set, &set) != 0) return;
+  CPU_CLR(avoidCpu, &set);
+  if (CPU_COUNT(&set) > 0) pthread_setaffinity_np(pthread_self(), sizeof set, &set);
 }
 
 }  // namespace
 
 SceneBuild::SceneBuild(std::vector<PartSource> parts, const Options& options)
-    : sources_(std::move(parts)), backend_(options.backend) {
+    : sources_(std::move(parts)), backend_(options.backend), avoidCpu_(options.avoidCpu) {
   scenes_.push_back(std::make_shared<const Scene>(standIns(sources_)));
   std::unordered_map<std::string, std::size_t> byKey;
   modelOf_.resize(sources_.size());
@@ -137,7 +143,7 @@ ScenePtr SceneBuild::rebase(const std::vector<PartPose>& poses) {
 }
 
 void SceneBuild::work() noexcept {
-  lowerPriority();
+  stayInTheBackground(avoidCpu_);
   for (;;) {
     std::size_t m;
     std::function<geometry::PartModelPtr()> load;

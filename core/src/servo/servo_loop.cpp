@@ -78,10 +78,19 @@ const char* toString(WatchdogFault fault) {
   return "?";
 }
 
+int servoCpu() noexcept {
+  cpu_set_t set;
+  if (sched_getaffinity(0, sizeof set, &set) != 0 || CPU_COUNT(&set) < 2) return -1;
+  for (int cpu = CPU_SETSIZE - 1; cpu >= 0; --cpu)
+    if (CPU_ISSET(cpu, &set)) return cpu;
+  return -1;
+}
+
 void ServoConfig::validate() const {
   if (!(rate_hz >= 50 && rate_hz <= 10000)) throw std::invalid_argument("servo rate must be in [50, 10000] Hz");
   if (fifoPriority < 1 || fifoPriority > 99) throw std::invalid_argument("SCHED_FIFO priority must be in [1, 99]");
   if (!(watchdogRamp_s > 0 && watchdogRamp_s <= 1)) throw std::invalid_argument("watchdog ramp must be in (0, 1] s");
+  if (cpu >= CPU_SETSIZE) throw std::invalid_argument("no CPU " + std::to_string(cpu));
 }
 
 std::uint32_t SnapshotReader::eventsSinceLastRead(const ServoSnapshot& s, bool* lost) noexcept {
@@ -169,6 +178,15 @@ void ServoLoop::run() noexcept {
   } else {
     scheduler_ = "SCHED_OTHER (not requested)";
     memoryLock_ = "none (not requested)";
+  }
+  if (config_.cpu >= 0) {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    CPU_SET(config_.cpu, &set);
+    const int rc = pthread_setaffinity_np(pthread_self(), sizeof set, &set);
+    affinity_ = rc == 0 ? "cpu " + std::to_string(config_.cpu) : "any (" + errorText(rc) + ")";
+  } else {
+    affinity_ = "any (not requested)";
   }
   {  // Touch the stack the tick will use (the snapshot copies are ~10 KB each).
     volatile char stack[128 * 1024];

@@ -169,6 +169,8 @@ SceneBenchResult runSceneBench(const SceneBenchOptions& o) {
   const Vec3 top = solids[target].pose.pointToAbsolute(topPoint(solids[target], metresPerUnit));
   grasp::SceneBuild::Options buildOptions;
   buildOptions.workers = o.workers;
+  const int cpu = o.realtime ? servoCpu() : -1;  // a real-time servo keeps a CPU to itself
+  buildOptions.avoidCpu = cpu;
   grasp::SceneBuild build(std::move(sources), buildOptions);
   build.setFocus(top);
   auto device = std::make_shared<ScriptedHandDevice>(touchScript(top));
@@ -176,6 +178,7 @@ SceneBenchResult runSceneBench(const SceneBenchOptions& o) {
   config.rate_hz = o.rate_hz;
   config.realtime = o.realtime;
   config.allocationCounter = o.allocationCounter;
+  config.cpu = cpu;
   ServoLoop loop(device, std::make_unique<TwoFingerEngine>(build.scene()), config);
   loop.start();
   r.start_s = since(t0);
@@ -202,7 +205,7 @@ SceneBenchResult runSceneBench(const SceneBenchOptions& o) {
   r.periodError = t.periodError;
   r.achieved_hz = t.achieved_hz;
   if (loop.read(snap)) r.allocations_in_loop = snap.allocations;
-  r.scheduler = loop.scheduler();
+  r.scheduler = loop.scheduler() + ", " + loop.affinity();
   const grasp::SceneBuild::Progress p = build.progress();
   r.uniqueModels = p.models;
   r.failedModels = p.failed;

@@ -471,6 +471,8 @@ void Session::startScene(const std::vector<SceneRequest>& requests, double rate_
   }
   grasp::SceneBuild::Options options;
   options.workers = workers;
+  const int cpu = realtime ? servo::servoCpu() : -1;  // a real-time servo keeps a CPU to itself
+  options.avoidCpu = cpu;
   build_ = std::make_unique<grasp::SceneBuild>(std::move(sources), options);
   sceneRequests_ = requests;
   backends_.assign(requests.size(), {"box", kStandInReason});
@@ -487,6 +489,7 @@ void Session::startScene(const std::vector<SceneRequest>& requests, double rate_
   servo::ServoConfig config;
   config.rate_hz = rate_hz;
   config.realtime = realtime;
+  config.cpu = cpu;
   device_ = device;
   config_ = config;
   resetTracker();

@@ -6,6 +6,9 @@
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <gtest/gtest.h>
 
+#include <pthread.h>
+#include <sched.h>
+
 #include <atomic>
 #include <chrono>
 #include <thread>
@@ -177,6 +180,30 @@ TEST(SceneBuild, CancelStopsAfterTheModelInProgress) {
   ASSERT_TRUE(build.wait(10));
   EXPECT_TRUE(build.progress().finished);
   EXPECT_LT(build.progress().built, 5u);
+}
+
+// The workers keep off the servo thread's CPU (when the machine has another).
+TEST(SceneBuild, WorkersKeepOffTheServosCpu) {
+  const int servo = servo::servoCpu();
+  if (servo < 0) GTEST_SKIP() << "one CPU: nothing to keep off";
+  auto parts = row(3, 3);
+  std::atomic<int> onServoCpu{0}, checked{0};
+  for (auto& p : parts) {
+    auto load = p.load;
+    p.load = [load, servo, &onServoCpu, &checked] {
+      cpu_set_t set;
+      pthread_getaffinity_np(pthread_self(), sizeof set, &set);
+      onServoCpu += CPU_ISSET(servo, &set) ? 1 : 0;
+      ++checked;
+      return load();
+    };
+  }
+  SceneBuild::Options options;
+  options.avoidCpu = servo;
+  SceneBuild build(std::move(parts), options);
+  ASSERT_TRUE(build.wait(60));
+  EXPECT_EQ(checked.load(), 3);
+  EXPECT_EQ(onServoCpu.load(), 0);
 }
 
 // The real servo thread on a scene whose models are swapped in while it runs: no

@@ -9,7 +9,8 @@
 // the one whose nearest part is nearest the focus (setFocus: the hand), so the part under
 // the hand is exact first, and the order follows the hand as it moves.
 //
-// Workers run at SCHED_IDLE: they take only what the servo thread and the GUI leave.
+// Workers run at SCHED_IDLE, off the servo thread's CPU when it is pinned (avoidCpu): they
+// take only what the servo thread and the GUI leave.
 // Never touched by the servo thread.
 #include <atomic>
 #include <condition_variable>
@@ -45,6 +46,7 @@ class SceneBuild {
   struct Options {
     int workers = 1;
     geometry::Backend backend = geometry::Backend::Auto;
+    int avoidCpu = -1;  // the servo thread's CPU (ServoConfig::cpu): the workers run on the others
   };
   // One distinct model and what became of it.
   struct Model {
@@ -109,6 +111,7 @@ class SceneBuild {
   std::size_t remaining_ = 0, exactParts_ = 0, running_ = 0;
   geometry::Backend backend_;
   std::atomic<bool> cancel_{false};
+  int avoidCpu_ = -1;
   std::vector<std::thread> workers_;
 };
 

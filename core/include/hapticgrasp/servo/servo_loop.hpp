@@ -50,11 +50,18 @@ struct ServoConfig {
   double rate_hz = 2000;             // 50 .. 10000 (the design range is 1-8 kHz)
   bool realtime = true;              // ask for SCHED_FIFO and mlockall
   int fifoPriority = 80;             // 1 .. 99
+  // The CPU the thread is pinned to (-1: none, the scheduler's choice). Background work
+  // (a scene's model build) keeps off it: SceneBuild::Options::avoidCpu.
+  int cpu = -1;
   bool passivityController = false; // initial state; ServoCommand toggles it
   double watchdogRamp_s = 0.010;     // forces fall to zero within this after a fault
   AllocationCounter allocationCounter = nullptr;
   void validate() const;             // throws std::invalid_argument
 };
+
+// The CPU a real-time servo thread takes for itself: the last this process may run on, or
+// -1 when it may run on one only (nothing to keep the background off).
+int servoCpu() noexcept;
 
 // Servo-level bits in the event stream, beside the grasp's GraspEvent bits (0-7).
 enum ServoEvent : std::uint32_t {
@@ -189,6 +196,8 @@ class ServoLoop {
   // memoryLock(): "mlockall" or "none (EPERM: ...)".
   const std::string& scheduler() const noexcept { return scheduler_; }
   const std::string& memoryLock() const noexcept { return memoryLock_; }
+  // Valid after start(): "cpu 1", or "any (not requested)", or why the pin failed.
+  const std::string& affinity() const noexcept { return affinity_; }
   // Timing so far (exact as of the last snapshot refresh; final after stop()).
   TimingSummary timing() const noexcept;
   const ServoConfig& config() const noexcept { return config_; }
@@ -211,7 +220,7 @@ class ServoLoop {
   std::atomic<bool> running_{false};
   std::atomic<bool> started_{false};
   std::atomic<bool> ready_{false};
-  std::string scheduler_ = "not started", memoryLock_ = "not started";
+  std::string scheduler_ = "not started", memoryLock_ = "not started", affinity_ = "not started";
   bool locked_ = false;
 
   // Servo-thread data (touched by the thread only while it runs).
