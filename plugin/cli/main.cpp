@@ -191,6 +191,8 @@ int main(int argc, char** argv) {
       CLI::Range(1, 64));
   sceneBench->add_flag("!--no-sharing", sceneOptions.share,
                        "Build every copy's models apart, as if no two parts were the same shape");
+  sceneBench->add_flag("!--no-pin", sceneOptions.pin,
+                       "Leave the servo thread and the model builders to the scheduler (no CPU of its own)");
   sceneBench->add_flag("--json", json, "Print JSON");
 
   CLI::App* devices = app.add_subcommand("devices", "List HID devices and which back end or layout matches each");

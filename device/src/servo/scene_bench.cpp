@@ -169,7 +169,7 @@ SceneBenchResult runSceneBench(const SceneBenchOptions& o) {
   const Vec3 top = solids[target].pose.pointToAbsolute(topPoint(solids[target], metresPerUnit));
   grasp::SceneBuild::Options buildOptions;
   buildOptions.workers = o.workers;
-  const int cpu = o.realtime ? servoCpu() : -1;  // a real-time servo keeps a CPU to itself
+  const int cpu = o.realtime && o.pin ? servoCpu() : -1;  // a real-time servo keeps a CPU to itself
   buildOptions.avoidCpu = cpu;
   grasp::SceneBuild build(std::move(sources), buildOptions);
   build.setFocus(top);

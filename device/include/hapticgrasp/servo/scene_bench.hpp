@@ -25,6 +25,7 @@ struct SceneBenchOptions {
   double rate_hz = 2000;
   int workers = 1;         // model-building threads
   bool share = true;       // copies share their shapes' models (false: every copy built apart)
+  bool pin = true;         // a real-time servo keeps a CPU to itself, the builders the others
   bool realtime = true;
   AllocationCounter allocationCounter = nullptr;
 };
