@@ -943,9 +943,10 @@ class HapticSession:
         self.rebuilds[index] = (core.ModelBuild([part_request(ref, self.default_density, shape)]), ref.label)
         _warn(self.messages, "%s changed: rebuilding its model" % ref.label)
 
-    def _swap_rebuilt(self):
-        """Scene mode: finished rebuilds are felt from the next servo tick, held or not (a
-        held part keeps the weight it was lifted with)."""
+    def _finished_rebuilds(self):
+        """The rebuilds that finished, taken out of self.rebuilds: (index, build, label) of
+        each that built its part; a failed one is said and its part keeps its model."""
+        done = []
         for index in sorted(self.rebuilds):
             build, label = self.rebuilds[index]
             if not build.progress()["finished"]:
@@ -955,6 +956,13 @@ class HapticSession:
             if errors:
                 _warn(self.messages, "rebuild of %s failed: %s; keeping its previous model" % (label, errors[0][2]))
                 continue
+            done.append((index, build, label))
+        return done
+
+    def _swap_rebuilt(self):
+        """Scene mode: finished rebuilds are felt from the next servo tick, held or not (a
+        held part keeps the weight it was lifted with)."""
+        for index, build, label in self._finished_rebuilds():
             info = self.core.replace_scene_part(index, build)
             self.rebuilt[index] += 1
             _say_part(self.part_reports, label, info)
@@ -1030,15 +1038,7 @@ class HapticSession:
                 moved.append(ref.label)
             placements.append(placement_numbers(placement))
         swapped = []
-        for index in sorted(self.rebuilds):
-            build, label = self.rebuilds[index]
-            if not build.progress()["finished"]:
-                continue
-            del self.rebuilds[index]
-            errors = build.errors()
-            if errors:
-                _warn(self.messages, "rebuild of %s failed: %s; keeping its previous model" % (label, errors[0][2]))
-                continue
+        for index, build, label in self._finished_rebuilds():
             self.core.replace_part(index, build)
             self.rebuilt[index] += 1
             swapped.append(label)
