@@ -868,6 +868,8 @@ class HapticSession:
         """Stops the servo thread; a manipulation still open is committed where it is.
         Rebuilds in flight are cancelled."""
         self.core.stop()
+        if self.scene and self.core.scene_mode:
+            self._say_models()   # the models built since the last tick get their line too
         for build, _label in self.rebuilds.values():
             drain(build)
         self.rebuilds = {}
