@@ -10,7 +10,10 @@
 #include <sched.h>
 
 #include <atomic>
+#include <condition_variable>
+#include <mutex>
 #include <chrono>
+#include <functional>
 #include <thread>
 
 #include "alloc_counter.hpp"
@@ -67,31 +70,52 @@ TEST(SceneBuild, StandInsAtOnceThenEveryDistinctShapeBuiltOnce) {
   }
 }
 
+// Each load waits for the test's leave, so that the focus moves between two picks whatever
+// the machine's load: the worker's picks follow the focus as it is at each pick.
 TEST(SceneBuild, BuildsTheShapeNearestTheFocusFirst) {
   std::vector<std::size_t> order;
   std::mutex mutex;
+  std::condition_variable changed;
+  std::size_t released = 0;
   auto parts = row(12, 12);
   for (std::size_t i = 0; i < parts.size(); ++i) {
     auto load = parts[i].load;
-    parts[i].load = [load, i, &order, &mutex] {
-      {
-        std::lock_guard lock(mutex);
-        order.push_back(i);
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));  // time for the focus to move
+    parts[i].load = [load, i, &order, &mutex, &changed, &released] {
+      std::unique_lock lock(mutex);
+      order.push_back(i);
+      changed.notify_all();
+      changed.wait(lock, [&] { return released >= order.size(); });
       return load();
     };
   }
+  const auto waitPick = [&](std::size_t picks) {  // until the worker has made pick `picks`
+    std::unique_lock lock(mutex);
+    return changed.wait_for(lock, std::chrono::seconds(60), [&] { return order.size() >= picks; });
+  };
+  const auto release = [&](std::size_t loads) {  // let the first `loads` picks build
+    std::lock_guard lock(mutex);
+    released = loads;
+    changed.notify_all();
+  };
   SceneBuild build(std::move(parts));
-  build.setFocus(Vec3(0.7, 0, 0));   // part 7; the first pick may have been made before
-  std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  build.setFocus(Vec3(0.2, 0, 0));   // the hand moved: part 2 and its neighbours next
+  struct ReleaseAll {  // a failed assertion must not leave the worker waiting (the build joins it)
+    std::function<void()> go;
+    ~ReleaseAll() { go(); }
+  } releaseAll{[&] { release(100); }};
+  build.setFocus(Vec3(0.7, 0, 0));  // part 7 (a first pick may have been made before: part 0)
+  ASSERT_TRUE(waitPick(1));
+  release(1);
+  ASSERT_TRUE(waitPick(2));         // picked with the focus at part 7
+  build.setFocus(Vec3(0.2, 0, 0));  // the hand moved: part 2 and its neighbours next
+  release(2);
+  ASSERT_TRUE(waitPick(3));
+  release(100);
   ASSERT_TRUE(build.wait(120));
   ASSERT_EQ(order.size(), 12u);
-  // After the pick made before any focus (part 0, nearest the origin), 7 and its nearest
-  // neighbours, then from 2 outwards.
   const auto pos = [&](std::size_t part) { return std::find(order.begin(), order.end(), part) - order.begin(); };
-  EXPECT_LE(pos(7), 2);
+  EXPECT_LE(pos(7), 1);
+  EXPECT_EQ(order[1], order[0] == 7 ? 6u : 7u);  // after 7, its nearer neighbour
+  EXPECT_EQ(order[2], 2u);
   EXPECT_LT(pos(2), pos(11));
   EXPECT_LT(pos(3), pos(10));
   EXPECT_LT(pos(1), pos(9));
