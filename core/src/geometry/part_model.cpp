@@ -370,10 +370,7 @@ PartModelPtr PartModel::load(const TopoDS_Shape& input, LengthUnit unit, std::st
     const double diagonal = std::sqrt(box.SquareExtent());
     if (!(v.volume > 1e-12 * diagonal * diagonal * diagonal)) throw GeometryError("solid has no volume");
 
-    part->shape_ = solids;
-    TopExp::MapShapes(solids, TopAbs_FACE, part->faces_);
-    TopExp::MapShapes(solids, TopAbs_EDGE, part->edges_);
-    TopExp::MapShapes(solids, TopAbs_VERTEX, part->vertices_);
+    part->setShape(solids);
     double x0, y0, z0, x1, y1, z1;
     box.Get(x0, y0, z0, x1, y1, z1);
     part->bounds_ = {Vec3(x0, y0, z0) * s, Vec3(x1, y1, z1) * s};
@@ -389,6 +386,14 @@ PartModelPtr PartModel::load(const TopoDS_Shape& input, LengthUnit unit, std::st
   return part;
 }
 
+// The checked shape and its topology maps (a penetration's featureIndex refers to these).
+void PartModel::setShape(const TopoDS_Shape& solids) {
+  shape_ = solids;
+  TopExp::MapShapes(solids, TopAbs_FACE, faces_);
+  TopExp::MapShapes(solids, TopAbs_EDGE, edges_);
+  TopExp::MapShapes(solids, TopAbs_VERTEX, vertices_);
+}
+
 PartModel::Record PartModel::record() const {
   return {metresPerUnit_, bounds_, volume_m3_, centre_m_, unitDensityInertia_, warnings_, backendChoice_};
 }
@@ -399,11 +404,8 @@ PartModelPtr PartModel::restore(const TopoDS_Shape& shape, const Record& r, std:
   std::shared_ptr<PartModel> part(new PartModel);
   part->name_ = std::move(name);
   part->metresPerUnit_ = r.metresPerUnit;
-  part->shape_ = shape;
   try {
-    TopExp::MapShapes(shape, TopAbs_FACE, part->faces_);
-    TopExp::MapShapes(shape, TopAbs_EDGE, part->edges_);
-    TopExp::MapShapes(shape, TopAbs_VERTEX, part->vertices_);
+    part->setShape(shape);
     part->primitive_ = recognisePrimitive(shape, r.metresPerUnit, r.volume_m3);
   } catch (const Standard_Failure& e) {
     throw GeometryError(std::string("OpenCASCADE failed on the shape: ") + e.GetMessageString());

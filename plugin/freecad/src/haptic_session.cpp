@@ -391,6 +391,16 @@ double Session::scriptDuration() const { return script_ ? script_->duration() : 
 void Session::start(double rate_hz, bool realtime) {
   if (loop_) throw std::logic_error("a session starts once");
   if (parts_.empty()) throw std::invalid_argument("no parts to grasp");
+  servo::ServoConfig config;
+  config.rate_hz = rate_hz;
+  config.realtime = realtime;
+  launch(std::make_shared<const grasp::Scene>(parts_), config);
+}
+
+bool Session::hasDevice() const { return handHold_s_ > 0 || script_ || hid_ || arm_; }
+
+// The chosen device and the servo loop over `scene`; both kept for restart().
+void Session::launch(const grasp::ScenePtr& scene, const servo::ServoConfig& config) {
   std::shared_ptr<device::Device> device;
   if (handHold_s_ > 0) {
     device = input_ = std::make_shared<HandInputDevice>(handHold_s_);
@@ -403,10 +413,6 @@ void Session::start(double rate_hz, bool realtime) {
   } else {
     throw std::invalid_argument("no device: set a hand script or use the hand input first");
   }
-  auto scene = std::make_shared<const grasp::Scene>(parts_);
-  servo::ServoConfig config;
-  config.rate_hz = rate_hz;
-  config.realtime = realtime;
   device_ = device;
   config_ = config;
   resetTracker();
@@ -456,8 +462,7 @@ const char* kStandInReason = "box: its bounding box until its model is built";
 void Session::startScene(const std::vector<SceneRequest>& requests, double rate_hz, bool realtime, int workers) {
   if (loop_) throw std::logic_error("a session starts once");
   if (requests.empty()) throw std::invalid_argument("no parts to grasp");
-  if (!script_ && handHold_s_ <= 0 && !hid_ && !arm_)
-    throw std::invalid_argument("no device: set a hand script or use the hand input first");
+  if (!hasDevice()) throw std::invalid_argument("no device: set a hand script or use the hand input first");
   std::vector<grasp::PartSource> sources;
   sources.reserve(requests.size());
   for (const SceneRequest& r : requests) {
@@ -480,21 +485,11 @@ void Session::startScene(const std::vector<SceneRequest>& requests, double rate_
   exactParts_ = 0;
   parts_.clear();
   infos_.clear();
-  // The device and the loop as start() makes them, on the scene of stand-ins.
-  std::shared_ptr<device::Device> device;
-  if (handHold_s_ > 0) device = input_ = std::make_shared<HandInputDevice>(handHold_s_);
-  else if (script_) device = scripted_ = std::make_shared<servo::ScriptedHandDevice>(*script_);
-  else if (hid_) device = hid_;
-  else device = arm_;
   servo::ServoConfig config;
   config.rate_hz = rate_hz;
   config.realtime = realtime;
   config.cpu = cpu;
-  device_ = device;
-  config_ = config;
-  resetTracker();
-  loop_ = std::make_unique<servo::ServoLoop>(device, makeEngine(build_->scene()), config);
-  loop_->start();
+  launch(build_->scene(), config);  // on the scene of stand-ins
 }
 
 std::vector<std::size_t> Session::wantedShapes(std::size_t limit) const {

@@ -304,6 +304,8 @@ class Session {
   servo::SnapshotReader reader_;
   servo::PoseTracker tracker_;  // every part's pose, from the snapshots' moving parts and put-downs
   void resetTracker();
+  bool hasDevice() const;
+  void launch(const grasp::ScenePtr& scene, const servo::ServoConfig& config);
   std::vector<grasp::PartPose> initialPoses() const;
   void refreshBackends();  // scene mode: the backends of parts whose model came in
 

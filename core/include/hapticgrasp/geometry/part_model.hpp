@@ -109,6 +109,7 @@ class PartModel {
 
  private:
   PartModel() = default;
+  void setShape(const TopoDS_Shape& solids);
   // Checks and models a shape whose reading took read_s, the whole load having begun at start.
   static PartModelPtr load(const TopoDS_Shape& shape, LengthUnit unit, std::string name, const LoadOptions& options,
                            double read_s, std::chrono::steady_clock::time_point start);
