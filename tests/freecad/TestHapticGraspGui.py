@@ -165,7 +165,12 @@ class HapticGraspGui(unittest.TestCase):
                     break
                 time.sleep(0.005)
             building_s = loop_times[-1] - loop_times[0]
-            QtWidgets.QApplication.processEvents()
+            # The panel refreshes on the controller's timer from the servo's snapshot, which
+            # follows the last swap a tick later: one processEvents() may come before either.
+            settle = time.monotonic() + 5
+            while (panel.fields["models"].text() != "5 of 5 parts" and time.monotonic() < settle):
+                QtWidgets.QApplication.processEvents()
+                time.sleep(0.005)
             models_text = panel.fields["models"].text()
             self.assertTrue(session.running)
             panel.stop_button.click()
