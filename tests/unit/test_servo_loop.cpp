@@ -20,6 +20,7 @@
 #include "hapticgrasp/servo/servo_bench.hpp"
 #include "hapticgrasp/servo/pose_tracker.hpp"
 #include "hapticgrasp/servo/servo_loop.hpp"
+#include "hapticgrasp/servo/tick_record.hpp"
 
 namespace hg::servo {
 namespace {
@@ -668,6 +669,138 @@ TEST(ServoLoop, RunsOnTheCpuItIsGiven) {
   EXPECT_GT(loop.timing().ticks, 10u);
   config.cpu = CPU_SETSIZE;
   EXPECT_THROW(config.validate(), std::invalid_argument);
+}
+
+// ---------------------------------------------------------------------------------------
+// The stages without a thread (ServoLoop::step), and the record stage.
+
+// The bench's script sampled at the loop time it is given: deterministic under step().
+// Silent from `silentFrom_s` on.
+class ClockedScriptDevice : public device::Device {
+ public:
+  explicit ClockedScriptDevice(double silentFrom_s = 1e9) : silentFrom_s_(silentFrom_s) {}
+  const device::DeviceSpec& spec() const noexcept override { return spec_; }
+  bool read(device::DeviceSample& s) noexcept override {
+    if (now_s_ >= silentFrom_s_) return false;
+    s.hand = script_.at(now_s_);
+    s.deviceTime_s = now_s_;
+    return true;
+  }
+  void write(const device::DeviceCommand& c) noexcept override { last_ = c; }
+  double now_s_ = 0;
+  device::DeviceCommand last_;
+
+ private:
+  grasp::HandScript script_ = benchScript();
+  device::DeviceSpec spec_ = ScriptedHandDevice::defaultSpec();
+  double silentFrom_s_;
+};
+
+TEST(ServoLoop, StepRunsEveryStageWithoutAThreadAndRefusesOnceStarted) {
+  auto device = std::make_shared<ClockedScriptDevice>(/*silentFrom_s=*/3.0);
+  ServoLoop loop(device, benchScene(), {}, quietConfig());
+  const double dt = 0.0005;
+  bool manipulated = false;
+  ServoSnapshot s;
+  for (int k = 0; k < 6400; ++k) {  // 3.2 s: the script grasps and lifts, then the device falls silent
+    device->now_s_ = k * dt;
+    loop.step(k * dt, k ? dt : 0.0);
+    ASSERT_TRUE(loop.read(s));
+    manipulated |= s.state == GraspState::Manipulate;
+  }
+  EXPECT_EQ(s.tick, 6400u);
+  EXPECT_TRUE(manipulated);
+  // Silent since 3.0 s, past the 50 ms timeout: tripped, the grasp reset, the output ramped to zero.
+  EXPECT_EQ(s.watchdog.fault, WatchdogFault::Silent);
+  EXPECT_EQ(s.watchdog.trips, 1u);
+  EXPECT_EQ(s.state, GraspState::Free);
+  EXPECT_EQ(device->last_.f_wrist.norm(), 0.0);
+  loop.start();
+  EXPECT_THROW(loop.step(10.0, dt), std::logic_error);
+  loop.stop();
+}
+
+TEST(ServoLoop, StepIsDeterministic) {
+  // Two loops fed the same times and samples agree bit for bit: what replay relies on.
+  auto run = [](std::vector<device::DeviceCommand>& sent) {
+    auto device = std::make_shared<ClockedScriptDevice>();
+    ServoLoop loop(device, benchScene(), {}, quietConfig());
+    for (int k = 0; k < 3000; ++k) {
+      device->now_s_ = k * 0.0005;
+      loop.step(k * 0.0005, k ? 0.0005 : 0.0);
+      sent.push_back(device->last_);
+    }
+  };
+  std::vector<device::DeviceCommand> a, b;
+  run(a);
+  run(b);
+  ASSERT_EQ(a.size(), b.size());
+  double largest = 0;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(a[k].f_wrist, b[k].f_wrist) << k;
+    EXPECT_EQ(a[k].f_index, b[k].f_index) << k;
+    largest = std::max(largest, a[k].f_index.norm());
+  }
+  EXPECT_GT(largest, 1.0);  // the comparison saw real forces
+}
+
+TEST(ServoLoop, RecordStagePushesEveryTickAndCountsWhatAFullRingDrops) {
+  auto device = std::make_shared<ClockedScriptDevice>();
+  ServoLoop loop(device, benchScene(), {}, quietConfig());
+  auto ring = std::make_shared<TickRecordRing>(16);
+  loop.record(ring);
+  for (int k = 0; k < 100; ++k) {
+    device->now_s_ = 1.0 + k * 0.0005;
+    loop.step(1.0 + k * 0.0005, k ? 0.0005 : 0.0);
+  }
+  EXPECT_EQ(ring->pushed(), 16u);
+  EXPECT_EQ(ring->dropped(), 84u);
+  TickRecord r;
+  for (std::uint64_t expected = 1; expected <= 16; ++expected) {
+    ASSERT_TRUE(ring->pop(r));
+    EXPECT_EQ(r.tick, expected);
+    EXPECT_TRUE(r.freshSample);
+    EXPECT_DOUBLE_EQ(r.time_s, 1.0 + static_cast<double>(expected - 1) * 0.0005);
+    EXPECT_EQ(r.sample.hand.index, benchScript().at(r.time_s).index);
+  }
+  EXPECT_FALSE(ring->pop(r));
+}
+
+TEST(ServoLoop, RecordingOnTheRealThreadAllocatesNothingAndKeepsEveryTick) {
+  auto device = std::make_shared<ScriptedHandDevice>(benchScript());
+  ServoConfig c = quietConfig();
+  c.allocationCounter = &hg::test::allocations;
+  ServoLoop loop(device, benchScene(), {}, c);
+  auto ring = std::make_shared<TickRecordRing>(4096);
+  loop.record(ring);
+  std::atomic<bool> done{false};
+  std::uint64_t popped = 0, lastTick = 0, gaps = 0, manipulating = 0;
+  std::thread writer([&] {
+    TickRecord r;
+    while (!done.load() || ring->size() > 0) {
+      while (ring->pop(r)) {
+        ++popped;
+        gaps += r.tick != lastTick + 1;
+        lastTick = r.tick;
+        manipulating += r.state == GraspState::Manipulate && r.movingCount == 1 && r.movingPart[0] == 0;
+      }
+      std::this_thread::sleep_for(1ms);
+    }
+  });
+  loop.start();
+  std::this_thread::sleep_for(1500ms);
+  loop.stop();
+  done = true;
+  writer.join();
+  ServoSnapshot s;
+  ASSERT_TRUE(loop.read(s));
+  std::printf("recorded %llu ticks, dropped %llu, ring %zu\n", static_cast<unsigned long long>(popped),
+              static_cast<unsigned long long>(ring->dropped()), ring->capacity());
+  EXPECT_EQ(s.allocations, 0);
+  EXPECT_EQ(ring->dropped(), 0u);
+  EXPECT_EQ(popped, s.tick);
+  EXPECT_EQ(gaps, 0u);
+  EXPECT_GT(manipulating, 100u);  // the lift is in the records, with the carried part's pose
 }
 
 }  // namespace

@@ -18,6 +18,7 @@ void TwoFingerEngine::reset() noexcept {
 }
 grasp::GraspState TwoFingerEngine::state() const noexcept { return grasp_->state(); }
 std::span<const grasp::PartPose> TwoFingerEngine::poses() const noexcept { return grasp_->poses(); }
+const grasp::Scene& TwoFingerEngine::parts() const noexcept { return grasp_->scene(); }
 
 EngineStep TwoFingerEngine::step(const grasp::HandSample& hand, double dt) noexcept {
   const grasp::GraspOutput g = grasp_->step(hand, dt);

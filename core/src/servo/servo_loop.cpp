@@ -208,7 +208,8 @@ void ServoLoop::run() noexcept {
     const double t = 1e-9 * static_cast<double>(wake - start);
     const double dt = ticks_ ? 1e-9 * static_cast<double>(wake - previous) : 0.0;
     previous = wake;
-    if (ticks_) periodError_.add(std::abs(dt - 1e-9 * static_cast<double>(period)));
+    lastPeriodError_s_ = ticks_ ? std::abs(dt - 1e-9 * static_cast<double>(period)) : 0.0;
+    if (ticks_) periodError_.add(lastPeriodError_s_);
     tick(t, dt);
     next += period;
     const std::int64_t end = nowNs();
@@ -241,49 +242,92 @@ TimingSummary ServoLoop::timingSummary() const noexcept {
   return s;
 }
 
-void ServoLoop::tick(double t, double dt) noexcept {
-  const std::int64_t computeStart = nowNs();
-  std::uint32_t events = 0;
-  const grasp::GraspState before = engine_->state();
+void ServoLoop::record(std::shared_ptr<TickRecordRing> ring) {
+  if (started_.load()) throw std::logic_error("servo loop: record() after start()");
+  records_ = std::move(ring);
+}
 
+void ServoLoop::step(double t, double dt) {
+  if (started_.load()) throw std::logic_error("servo loop: step() on a started loop (its thread ticks it)");
+  tick(t, dt);
+}
+
+// One tick: the named stages in order. While the watchdog holds a fault, the grasp does
+// not step and the held command ramps down; otherwise a good sample steps the grasp and a
+// missing one holds the last command.
+void ServoLoop::tick(double t, double dt) noexcept {
+  TickState s;
+  s.t = t;
+  s.dt = dt;
+  s.computeStart_ns = nowNs();
+  s.before = engine_->state();
+  drainCommands(s);
+  readDevice(s);
+  watchdog(s);
+  if (snap_.watchdog.fault == WatchdogFault::None && s.good) {
+    graspStep(s);
+    device::DeviceCommand c = snap_.raw;
+    passivity(c);
+    saturate(c);
+    lastOut_ = c;
+  } else {
+    for (int p = 0; p < kPortCount; ++p) snap_.alpha_Ns_per_m[p] = 0;
+  }
+  outputGain(s);
+  writeDevice(s);
+  publishSnapshot(s);
+  pushRecord(s);
+}
+
+// GUI commands, applied before the sample is read.
+void ServoLoop::drainCommands(TickState& s) noexcept {
   ServoCommand command;
   while (commands_.pop(command)) {
     switch (command.kind) {
       case ServoCommand::Kind::ResetGrasp:
         engine_->reset();
         logMove(-1, {});
-        events |= kGraspReset;
+        s.events |= kGraspReset;
+        s.commands |= kCommandReset;
         break;
-      case ServoCommand::Kind::SetPassivityController: passivityOn_ = command.on; break;
+      case ServoCommand::Kind::SetPassivityController:
+        passivityOn_ = command.on;
+        s.commands |= command.on ? kCommandPassivityOn : kCommandPassivityOff;
+        break;
       case ServoCommand::Kind::Stop: stop_.store(true, std::memory_order_release); break;
     }
   }
+}
 
-  const device::DeviceSpec& spec = device_->spec();
-  pendingDt_ += dt;
-  sampleDt_ += dt;
+void ServoLoop::readDevice(TickState& s) noexcept {
+  pendingDt_ += s.dt;
+  sampleDt_ += s.dt;
   const std::int64_t readStart = nowNs();
-  const bool fresh = device_->read(sample_);
-  const std::int64_t readEnd = nowNs();
-  const bool good = fresh && sample_.hand.finite();
-  if (good) lastFresh_s_ = t;
-  WatchdogStatus& wd = snap_.watchdog;
-  wd.silence_s = t - lastFresh_s_;
+  s.fresh = device_->read(sample_);
+  s.io_ns += nowNs() - readStart;
+  s.good = s.fresh && sample_.hand.finite();
+  if (s.good) lastFresh_s_ = s.t;
+  snap_.watchdog.silence_s = s.t - lastFresh_s_;
+}
 
-  // Watchdog: trip.
+// Trips on a non-finite sample or silence past the device's timeout: the grasp is reset at
+// once and the command the operator feels ramps down from where it is. Clears on a fresh
+// finite sample, the grasp restarting as on a first sample.
+void ServoLoop::watchdog(TickState& s) noexcept {
+  WatchdogStatus& wd = snap_.watchdog;
   WatchdogFault fault = WatchdogFault::None;
-  double rampOrigin = t;
-  if (fresh && !good) {
+  double rampOrigin = s.t;
+  if (s.fresh && !s.good) {
     fault = WatchdogFault::NonFinite;
-  } else if (!fresh && wd.silence_s > spec.timeout_s) {
+  } else if (!s.fresh && wd.silence_s > device_->spec().timeout_s) {
     fault = WatchdogFault::Silent;
-    rampOrigin = lastFresh_s_ + spec.timeout_s;  // the ramp starts when the timeout expired
+    rampOrigin = lastFresh_s_ + device_->spec().timeout_s;  // the ramp starts when the timeout expired
   }
   if (fault != WatchdogFault::None && wd.fault == WatchdogFault::None) {
     wd.fault = wd.lastFault = fault;
-    wd.faultTime_s = t;
+    wd.faultTime_s = s.t;
     ++wd.trips;
-    events |= kWatchdogTrip;
+    s.events |= kWatchdogTrip;
     faultStart_s_ = rampOrigin;
     held_ = snap_.sent;  // what the operator feels now; ramps down from here
     gain_ = 1;           // held_ already carries the current gain
@@ -292,102 +336,149 @@ void ServoLoop::tick(double t, double dt) noexcept {
     snap_.graspedPart = -1;
     for (PassivityPort& p : ports_) p.reset();
   }
-  // Watchdog: clear on a fresh finite sample.
-  if (good && wd.fault != WatchdogFault::None) {
+  if (s.good && wd.fault != WatchdogFault::None) {
     wd.fault = WatchdogFault::None;
-    wd.clearTime_s = t;
-    events |= kWatchdogClear;
-    pendingDt_ = 0;  // the grasp restarts as on a first sample
+    wd.clearTime_s = s.t;
+    s.events |= kWatchdogClear;
+    pendingDt_ = 0;
     sampleDt_ = 0;
     for (PassivityPort& p : ports_) p.reset();
     lastOut_ = device::DeviceCommand{};
-    gain_ = 0;       // and ramps back up
+    gain_ = 0;  // and ramps back up
   }
+}
 
-  device::DeviceCommand out;
-  if (wd.fault != WatchdogFault::None) {
-    gain_ = std::clamp(1.0 - (t - faultStart_s_) / config_.watchdogRamp_s, 0.0, gain_);
-    out = scaled(held_, gain_);
+// The grasp method on the fresh sample, with the time since its previous step.
+void ServoLoop::graspStep(TickState& s) noexcept {
+  lastHand_ = sample_.hand;
+  const double stepDt = haveHand_ ? pendingDt_ : 0.0;
+  haveHand_ = true;
+  pendingDt_ = 0;
+  const EngineStep g = engine_->step(lastHand_, stepDt);
+  s.events |= g.events;
+  snap_.raw = g.command;
+  snap_.graspedPart = g.graspedPart;
+}
+
+// Passivity observer (always) and controller (when on), per port.
+void ServoLoop::passivity(device::DeviceCommand& c) noexcept {
+  const device::DeviceCommand& raw = snap_.raw;
+  const double sdt = sampleDt_;
+  sampleDt_ = 0;
+  const double bMax = device_->spec().maxDamping_Ns_per_m;
+  double* alpha = snap_.alpha_Ns_per_m;
+  alpha[kIndexPort] = ports_[kIndexPort].update(lastHand_.index, sdt, raw.f_index, passivityOn_, bMax, c.f_index);
+  alpha[kThumbPort] = ports_[kThumbPort].update(lastHand_.thumb, sdt, raw.f_thumb, passivityOn_, bMax, c.f_thumb);
+  alpha[kWristPort] = ports_[kWristPort].update(lastHand_.wrist, sdt, raw.f_wrist, passivityOn_, bMax, c.f_wrist);
+  for (int k = 2; k < snap_.fingertips; ++k) {
+    const int port = kExtraPort + k - 2;
+    alpha[port] = ports_[port].update(lastHand_.fingertip(k), sdt, raw.fingertipForce(k), passivityOn_, bMax,
+                                      c.fingertipForce(k));
+  }
+}
+
+// To the device's spec: magnitudes clamped, directions kept.
+void ServoLoop::saturate(device::DeviceCommand& c) noexcept {
+  const device::DeviceSpec& spec = device_->spec();
+  bool saturated = false;
+  saturated |= clampNorm(c.f_index, spec.maxForce_N);
+  saturated |= clampNorm(c.f_thumb, spec.maxForce_N);
+  for (Vec3& f : c.f_extra) saturated |= clampNorm(f, spec.maxForce_N);
+  saturated |= clampNorm(c.f_wrist, spec.maxForce_N);
+  saturated |= clampNorm(c.m_wrist, spec.maxTorque_Nm);
+  if (!std::isfinite(c.f_grasp) || c.f_grasp < 0) c.f_grasp = 0;
+  if (c.f_grasp > spec.maxForce_N) {
+    c.f_grasp = spec.maxForce_N;
+    saturated = true;
+  }
+  snap_.saturated = saturated;
+}
+
+// Under a fault the held command ramps to zero; otherwise the last command (held when no
+// fresh sample came) with a gain ramping back to one after a fault.
+void ServoLoop::outputGain(TickState& s) noexcept {
+  if (snap_.watchdog.fault != WatchdogFault::None) {
+    gain_ = std::clamp(1.0 - (s.t - faultStart_s_) / config_.watchdogRamp_s, 0.0, gain_);
+    s.out = scaled(held_, gain_);
     snap_.raw = device::DeviceCommand{};
-    for (int p = 0; p < kPortCount; ++p) snap_.alpha_Ns_per_m[p] = 0;
   } else {
-    if (good) {
-      lastHand_ = sample_.hand;
-      const double stepDt = haveHand_ ? pendingDt_ : 0.0;
-      haveHand_ = true;
-      pendingDt_ = 0;
-      const EngineStep g = engine_->step(lastHand_, stepDt);
-      events |= g.events;
-      const device::DeviceCommand& raw = g.command;
-      snap_.raw = raw;
-      snap_.graspedPart = g.graspedPart;
-      // Passivity observer (always) and controller (when on), per port.
-      device::DeviceCommand c = raw;
-      const double sdt = sampleDt_;
-      sampleDt_ = 0;
-      const double bMax = spec.maxDamping_Ns_per_m;
-      snap_.alpha_Ns_per_m[kIndexPort] = ports_[kIndexPort].update(lastHand_.index, sdt, raw.f_index, passivityOn_, bMax, c.f_index);
-      snap_.alpha_Ns_per_m[kThumbPort] = ports_[kThumbPort].update(lastHand_.thumb, sdt, raw.f_thumb, passivityOn_, bMax, c.f_thumb);
-      snap_.alpha_Ns_per_m[kWristPort] = ports_[kWristPort].update(lastHand_.wrist, sdt, raw.f_wrist, passivityOn_, bMax, c.f_wrist);
-      for (int k = 2; k < snap_.fingertips; ++k) {
-        const int port = kExtraPort + k - 2;
-        snap_.alpha_Ns_per_m[port] = ports_[port].update(lastHand_.fingertip(k), sdt, raw.fingertipForce(k),
-                                                         passivityOn_, bMax, c.fingertipForce(k));
-      }
-      // Saturation to the device's spec: magnitudes clamped, directions kept.
-      bool saturated = false;
-      saturated |= clampNorm(c.f_index, spec.maxForce_N);
-      saturated |= clampNorm(c.f_thumb, spec.maxForce_N);
-      for (Vec3& f : c.f_extra) saturated |= clampNorm(f, spec.maxForce_N);
-      saturated |= clampNorm(c.f_wrist, spec.maxForce_N);
-      saturated |= clampNorm(c.m_wrist, spec.maxTorque_Nm);
-      if (!std::isfinite(c.f_grasp) || c.f_grasp < 0) c.f_grasp = 0;
-      if (c.f_grasp > spec.maxForce_N) {
-        c.f_grasp = spec.maxForce_N;
-        saturated = true;
-      }
-      snap_.saturated = saturated;
-      lastOut_ = c;
-    } else {
-      for (int p = 0; p < kPortCount; ++p) snap_.alpha_Ns_per_m[p] = 0;
-    }
-    // No fresh sample within the timeout: the last command is held.
-    gain_ = std::min(1.0, gain_ + dt / config_.watchdogRamp_s);
-    out = scaled(lastOut_, gain_);
+    gain_ = std::min(1.0, gain_ + s.dt / config_.watchdogRamp_s);
+    s.out = scaled(lastOut_, gain_);
   }
-  const std::int64_t writeStart = nowNs();
-  device_->write(out);
-  const std::int64_t writeEnd = nowNs();
-  const std::int64_t io = (readEnd - readStart) + (writeEnd - writeStart);
-  deviceIo_.add(1e-9 * static_cast<double>(io));
-  compute_.add(1e-9 * static_cast<double>(writeEnd - computeStart - io));
+}
 
-  // Snapshot.
+void ServoLoop::writeDevice(TickState& s) noexcept {
+  const std::int64_t writeStart = nowNs();
+  device_->write(s.out);
+  const std::int64_t writeEnd = nowNs();
+  s.io_ns += writeEnd - writeStart;
+  deviceIo_.add(1e-9 * static_cast<double>(s.io_ns));
+  compute_.add(1e-9 * static_cast<double>(writeEnd - s.computeStart_ns - s.io_ns));
+}
+
+void ServoLoop::publishSnapshot(TickState& s) noexcept {
   ++ticks_;
-  if (ticks_ == 1) firstTick_s_ = t;
-  lastTick_s_ = t;
-  wd.gain = gain_;
+  if (ticks_ == 1) firstTick_s_ = s.t;
+  lastTick_s_ = s.t;
+  snap_.watchdog.gain = gain_;
   snap_.tick = snap_.tickMid = snap_.tickEnd = ticks_;
-  snap_.time_s = t;
-  snap_.dt_s = dt;
+  snap_.time_s = s.t;
+  snap_.dt_s = s.dt;
   snap_.state = engine_->state();
-  snap_.freshSample = fresh;
+  snap_.freshSample = s.fresh;
   snap_.passivityController = passivityOn_;
   snap_.hand = lastHand_;
-  snap_.sent = out;
+  snap_.sent = s.out;
   for (int p = 0; p < kPortCount; ++p) snap_.energy_J[p] = ports_[p].energy();
-  snap_.events = events;
-  if (events != 0 || snap_.state != before) {
+  snap_.events = s.events;
+  if (s.events != 0 || snap_.state != s.before) {
     EventRecord& r = snap_.eventLog[snap_.eventCount % ServoSnapshot::kEventLog];
-    r = {ticks_, t, events, before, snap_.state};
+    r = {ticks_, s.t, s.events, s.before, snap_.state};
     ++snap_.eventCount;
     for (int b = 0; b < 32; ++b)
-      if (events & (1u << b)) ++snap_.eventTotals[b];
+      if (s.events & (1u << b)) ++snap_.eventTotals[b];
   }
   publishPoses();
   if (config_.allocationCounter) snap_.allocations = config_.allocationCounter() - allocationBase_;
   if ((ticks_ & 63) == 1) snap_.timing = timingSummary();  // every 64 ticks: the histograms cost a scan
   publish();
+}
+
+// One fixed-size record into the recorder's ring; a full ring drops it (and counts it).
+void ServoLoop::pushRecord(const TickState& s) noexcept {
+  if (!records_) return;
+  TickRecord& r = record_;
+  r.tick = ticks_;
+  r.time_s = s.t;
+  r.dt_s = s.dt;
+  r.commands = s.commands;
+  r.freshSample = s.fresh;
+  r.passivityController = passivityOn_;
+  r.saturated = snap_.saturated;
+  r.stateBefore = s.before;
+  r.state = snap_.state;
+  r.watchdogFault = static_cast<std::uint8_t>(snap_.watchdog.fault);
+  r.events = s.events;
+  r.fingertips = snap_.fingertips;
+  r.graspedPart = snap_.graspedPart;
+  if (s.fresh) r.sample = sample_;
+  r.raw = snap_.raw;
+  r.sent = s.out;
+  r.watchdogGain = gain_;
+  std::copy(std::begin(snap_.energy_J), std::end(snap_.energy_J), r.energy_J);
+  std::copy(std::begin(snap_.alpha_Ns_per_m), std::end(snap_.alpha_Ns_per_m), r.alpha_Ns_per_m);
+  const std::int64_t now = nowNs();
+  r.compute_us = static_cast<float>(1e-3 * static_cast<double>(now - s.computeStart_ns - s.io_ns));
+  r.deviceIo_us = static_cast<float>(1e-3 * static_cast<double>(s.io_ns));
+  r.periodError_us = static_cast<float>(1e6 * lastPeriodError_s_);
+  r.scenePublications = engine_->parts().publications();
+  r.movingCount = snap_.movingCount;
+  const int n = std::min(snap_.movingCount, TickRecord::kMaxMoving);
+  for (int k = 0; k < n; ++k) {
+    r.movingPart[k] = snap_.moving[k].part;
+    r.movingPose[k] = snap_.moving[k].pose;
+  }
+  records_->push(r);
 }
 
 void ServoLoop::publish() noexcept { snapshot_.write(snap_); }

@@ -41,6 +41,8 @@ class GraspEngine {
   // The parts whose pose the last step() may have changed (held or carried): the only
   // ones the servo publishes each tick. The others stand where they were put.
   virtual std::span<const int> moving() const noexcept = 0;
+  // The parts it grasps (a recording's metadata, the swaps it follows).
+  virtual const grasp::Scene& parts() const noexcept = 0;
 };
 
 // The first paper's method: index, thumb and wrist.
@@ -56,6 +58,7 @@ class TwoFingerEngine final : public GraspEngine {
   grasp::GraspState state() const noexcept override;
   std::span<const grasp::PartPose> poses() const noexcept override;
   std::span<const int> moving() const noexcept override { return {&held_, held_ >= 0 ? 1u : 0u}; }
+  const grasp::Scene& parts() const noexcept override;
 
  private:
   std::unique_ptr<grasp::TwoFingerGrasp> grasp_;
@@ -75,6 +78,7 @@ class MultiFingerEngine final : public GraspEngine {
   grasp::GraspState state() const noexcept override { return scene_.state(); }
   std::span<const grasp::PartPose> poses() const noexcept override { return scene_.poses(); }
   std::span<const int> moving() const noexcept override { return scene_.carriedParts(); }
+  const grasp::Scene& parts() const noexcept override { return scene_.scene(); }
   const grasp::multi_finger::MultiFingerScene& scene() const noexcept { return scene_; }
 
  private:

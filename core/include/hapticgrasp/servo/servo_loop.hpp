@@ -1,7 +1,9 @@
 #pragma once
-// The servo loop: a dedicated thread at 1-8 kHz that reads the device, steps the grasp,
-// watches the device (watchdog), observes and optionally enforces passivity, saturates the
-// command to the device's spec and writes it, then publishes a snapshot.
+// The servo loop: a dedicated thread at 1-8 kHz. Each tick is a short list of named stages
+// over a small per-tick state (DESIGN.md: the tick reads like MuJoCo's mj_step):
+//   drain commands, read device, watchdog, grasp step, passivity, saturate, output gain,
+//   write device, publish snapshot, push record.
+// step() runs one tick on the caller's thread with given times (replay, tests).
 //
 //   GUI thread --send(ServoCommand)--> SPSC ring --> servo thread
 //   servo thread --SeqLock<ServoSnapshot>--> any number of readers (GUI, recorder, tests)
@@ -37,6 +39,7 @@
 #include "hapticgrasp/servo/passivity.hpp"
 #include "hapticgrasp/servo/seqlock.hpp"
 #include "hapticgrasp/servo/spsc_ring.hpp"
+#include "hapticgrasp/servo/tick_record.hpp"
 #include "hapticgrasp/servo/timing_stats.hpp"
 
 namespace hg::servo {
@@ -188,6 +191,14 @@ class ServoLoop {
   // GUI thread (a single producer). False if the ring is full.
   bool send(const ServoCommand& command) noexcept { return commands_.push(command); }
 
+  // Records every tick into `ring` (a recorder's writer thread drains it). Before start().
+  void record(std::shared_ptr<TickRecordRing> ring);
+
+  // One tick on the CALLING thread at loop time t, dt since the previous tick: the same
+  // stages the thread runs, for replay (re-simulation from a recording) and for tests.
+  // Throws std::logic_error once start() was called.
+  void step(double t, double dt);
+
   // Any thread. False before the first tick.
   bool read(ServoSnapshot& out) const noexcept { return snapshot_.read(out); }
   const SeqLock<ServoSnapshot>& snapshots() const noexcept { return snapshot_; }
@@ -203,8 +214,31 @@ class ServoLoop {
   const ServoConfig& config() const noexcept { return config_; }
 
  private:
+  // What one tick's stages hand each other; lives on the servo thread's stack.
+  struct TickState {
+    double t = 0, dt = 0;
+    std::int64_t computeStart_ns = 0, io_ns = 0;
+    std::uint32_t events = 0;
+    std::uint8_t commands = 0;     // TickCommand bits applied
+    grasp::GraspState before = grasp::GraspState::Free;
+    bool fresh = false, good = false;
+    device::DeviceCommand out;     // what the device is given
+  };
+
   void run() noexcept;
   void tick(double now, double dt) noexcept;
+  // The stages, in order.
+  void drainCommands(TickState& s) noexcept;
+  void readDevice(TickState& s) noexcept;
+  void watchdog(TickState& s) noexcept;
+  void graspStep(TickState& s) noexcept;
+  void passivity(device::DeviceCommand& command) noexcept;
+  void saturate(device::DeviceCommand& command) noexcept;
+  void outputGain(TickState& s) noexcept;
+  void writeDevice(TickState& s) noexcept;
+  void publishSnapshot(TickState& s) noexcept;
+  void pushRecord(const TickState& s) noexcept;
+
   void publish() noexcept;
   void logMove(int part, const grasp::PartPose& pose) noexcept;
   void publishPoses() noexcept;
@@ -240,11 +274,14 @@ class ServoLoop {
   DurationHistogram periodError_, compute_, deviceIo_;
   std::uint64_t ticks_ = 0, overruns_ = 0, lateTicks_ = 0;
   double firstTick_s_ = 0, lastTick_s_ = 0;
+  double lastPeriodError_s_ = 0;     // |dt - period| of the current tick
   long allocationBase_ = 0;
   bool passivityOn_ = false;
   TimingSummary final_;              // written by the thread before it exits
   int wasMoving_[ServoSnapshot::kMaxMoving] = {};  // the parts moving at the previous tick
   int wasMovingCount_ = 0;
+  std::shared_ptr<TickRecordRing> records_;  // null: not recording
+  TickRecord record_;                        // the record being built (servo thread)
 };
 
 }  // namespace hg::servo

@@ -68,6 +68,7 @@ class MultiFingerScene {
   MultiFingerScene(ScenePtr scene, int fingers, const MultiFingerSceneParams& params = {});
 
   const MultiFingerSceneOutput& step(std::span<const Vec3> fingertips, double dt) noexcept;
+  const Scene& scene() const noexcept { return *scene_; }
   // Every part back at its initial pose, resting; no contact.
   void reset() noexcept;
 
