@@ -28,24 +28,28 @@ std::string tickJson(std::uint64_t tick) {
   const double t = static_cast<double>(tick) / 2000.0;
   std::snprintf(text, sizeof text,
                 R"({"tick":%llu,"q":[%.9f,%.9f,%.9f,%.9f,%.9f,%.9f],"force_N":[%.6f,%.6f,%.6f]})",
-                static_cast<unsigned long long>(tick), 0.1 * t, 0.2 * t, -0.05 * t, 1e-3 * tick, 0.5, -0.25,
-                0.01 * (tick % 97), -0.02 * (tick % 13), 9.81);
+                static_cast<unsigned long long>(tick), 0.1 * t, 0.2 * t, -0.05 * t, 1e-3 * tick,
+                0.5, -0.25, 0.01 * (tick % 97), -0.02 * (tick % 13), 9.81);
   return text;
 }
 
 std::string fingertipsJson(std::uint64_t n) {
   char text[256];
-  std::snprintf(text, sizeof text, R"({"index":[%.6f,0.02,0.1],"thumb":[%.6f,-0.02,0.1],"penetration_m":%.7f})",
-                1e-4 * static_cast<double>(n % 200), -1e-4 * static_cast<double>(n % 200), 1e-6 * static_cast<double>(n % 31));
+  std::snprintf(text, sizeof text,
+                R"({"index":[%.6f,0.02,0.1],"thumb":[%.6f,-0.02,0.1],"penetration_m":%.7f})",
+                1e-4 * static_cast<double>(n % 200), -1e-4 * static_cast<double>(n % 200),
+                1e-6 * static_cast<double>(n % 31));
   return text;
 }
 
 std::string logJson(std::uint64_t n, std::uint64_t time_ns) {
   char text[256];
-  std::snprintf(text, sizeof text,
-                R"({"timestamp":{"sec":%llu,"nsec":%llu},"level":2,"message":"grasp state %llu","name":"servo","file":"grasp.cpp","line":42})",
-                static_cast<unsigned long long>(time_ns / 1'000'000'000), static_cast<unsigned long long>(time_ns % 1'000'000'000),
-                static_cast<unsigned long long>(n % 4));
+  std::snprintf(
+      text, sizeof text,
+      R"({"timestamp":{"sec":%llu,"nsec":%llu},"level":2,"message":"grasp state %llu","name":"servo","file":"grasp.cpp","line":42})",
+      static_cast<unsigned long long>(time_ns / 1'000'000'000),
+      static_cast<unsigned long long>(time_ns % 1'000'000'000),
+      static_cast<unsigned long long>(n % 4));
   return text;
 }
 
@@ -68,7 +72,8 @@ int main(int argc, char** argv) {
     const auto tipsChannel = w.addChannel(tick, "/servo/fingertips", "json");
     const auto logChannel = w.addChannel(log, "/log", "json");
     std::map<std::string, std::uint64_t> topics;
-    w.metadata("session", {{"operator", "sample"}, {"device", "simulated"}, {"method", "two-finger"}});
+    w.metadata("session",
+               {{"operator", "sample"}, {"device", "simulated"}, {"method", "two-finger"}});
     for (std::uint64_t i = 0; i < ticks; ++i) {
       const std::uint64_t t = kStart_ns + i * 500'000;  // 2 kHz
       w.write(ticksChannel, static_cast<std::uint32_t>(i), t, t, tickJson(i));
@@ -82,10 +87,12 @@ int main(int argc, char** argv) {
         ++topics["/log"];
       }
       if (i == ticks / 2)
-        w.attach("cylinder.brep", "application/octet-stream", t, kStart_ns - 1'000'000'000,
-                 "DBRep_DrawableShape\nCASCADE Topology V1, (c) Matra-Datavision\n(a sample part)\n");
+        w.attach(
+            "cylinder.brep", "application/octet-stream", t, kStart_ns - 1'000'000'000,
+            "DBRep_DrawableShape\nCASCADE Topology V1, (c) Matra-Datavision\n(a sample part)\n");
     }
-    if (ticks == 0) w.attach("cylinder.brep", "application/octet-stream", kStart_ns, 0, "(empty session)");
+    if (ticks == 0)
+      w.attach("cylinder.brep", "application/octet-stream", kStart_ns, 0, "(empty session)");
     w.close();
     std::printf(R"({"file": "%s", "messages": %llu, "topics": {)", argv[1],
                 static_cast<unsigned long long>(w.messages()));
@@ -96,7 +103,8 @@ int main(int argc, char** argv) {
     }
     std::printf(R"(}, "attachments": 1, "metadata": 1, "chunks": %llu, "bytes": %llu})"
                 "\n",
-                static_cast<unsigned long long>(w.chunks()), static_cast<unsigned long long>(w.bytes()));
+                static_cast<unsigned long long>(w.chunks()),
+                static_cast<unsigned long long>(w.bytes()));
   } catch (const hg::session::McapError& e) {
     std::fprintf(stderr, "mcap_sample: %s\n", e.what());
     return 1;

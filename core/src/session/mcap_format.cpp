@@ -11,9 +11,12 @@ namespace hg::session {
 
 std::string mcapOpName(std::uint8_t op) {
   static constexpr std::array<const char*, 16> names = {
-      nullptr,      "header",          "footer",     "schema",         "channel",       "message",
-      "chunk",      "message index",   "chunk index", "attachment",    "attachment index",
-      "statistics", "metadata",        "metadata index", "summary offset", "data end"};
+      nullptr,      "header",           "footer",
+      "schema",     "channel",          "message",
+      "chunk",      "message index",    "chunk index",
+      "attachment", "attachment index", "statistics",
+      "metadata",   "metadata index",   "summary offset",
+      "data end"};
   if (op > 0 && op < names.size()) return names[op];
   char text[24];
   std::snprintf(text, sizeof text, "opcode 0x%02x", op);

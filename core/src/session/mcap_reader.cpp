@@ -52,14 +52,18 @@ struct McapReader::Pass {
   // say where and why the read ended, are always kept.
   void warn(std::string text, bool last = false) {
     auto& w = result.warnings;
-    if (w.size() < kMaxWarnings || last) w.push_back(std::move(text));
-    else if (w.size() == kMaxWarnings) w.push_back("further warnings left out");
+    if (w.size() < kMaxWarnings || last)
+      w.push_back(std::move(text));
+    else if (w.size() == kMaxWarnings)
+      w.push_back("further warnings left out");
   }
   // The "N messages recovered up to T s" that every loss reports.
   std::string recovered() const {
     char text[96];
     const double seconds =
-        result.messages == 0 ? 0.0 : static_cast<double>(result.lastGoodTime_ns - result.firstTime_ns) * 1e-9;
+        result.messages == 0
+            ? 0.0
+            : static_cast<double>(result.lastGoodTime_ns - result.firstTime_ns) * 1e-9;
     std::snprintf(text, sizeof text, "%llu messages recovered up to %.1f s",
                   static_cast<unsigned long long>(result.messages), seconds);
     return text;
@@ -109,7 +113,8 @@ void McapReader::readAt(std::uint64_t offset, std::uint64_t bytes, std::string& 
   out.resize(bytes);
   std::uint64_t done = 0;
   while (done < bytes) {
-    const ssize_t n = ::pread(fd_, out.data() + done, bytes - done, static_cast<off_t>(offset + done));
+    const ssize_t n =
+        ::pread(fd_, out.data() + done, bytes - done, static_cast<off_t>(offset + done));
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) throw McapError("cannot read " + path_ + ": " + std::strerror(errno));
     if (n == 0) throw McapError("cannot read " + path_ + ": it shrank while being read");
@@ -124,8 +129,8 @@ void McapReader::readIndex() {
   std::string tail;
   readAt(size_ - kMcapTail, kMcapTail, tail);
   const std::uint64_t footer = size_ - kMcapTail;
-  if (tail.substr(kMcapFooterRecord) != kMcapMagic || tail[0] != static_cast<char>(McapOp::Footer) ||
-      getLE(tail.data() + 1, 8) != 20)
+  if (tail.substr(kMcapFooterRecord) != kMcapMagic ||
+      tail[0] != static_cast<char>(McapOp::Footer) || getLE(tail.data() + 1, 8) != 20)
     return;  // no footer: an unfinished file, which the scan reports
   footerFound_ = true;
   const std::uint64_t summaryStart = getLE(tail.data() + 9, 8);
@@ -135,12 +140,14 @@ void McapReader::readIndex() {
   };
   if (summaryStart == 0) return warn("the footer points to none");
   if (summaryStart < kMcapMagic.size() + kMcapDataEndRecord || summaryStart > footer)
-    return warn("the footer puts it at byte " + std::to_string(summaryStart) + ", outside the file");
+    return warn("the footer puts it at byte " + std::to_string(summaryStart) +
+                ", outside the file");
   if (footer - summaryStart > limits_.maxSummaryBytes)
     return warn(mib(footer - summaryStart) + ", over the limit of " + mib(limits_.maxSummaryBytes));
   // DataEnd, the summary, and the footer's fields that the summary CRC covers.
   std::string bytes;
-  readAt(summaryStart - kMcapDataEndRecord, footer + kMcapRecordPrefix + 16 - (summaryStart - kMcapDataEndRecord), bytes);
+  readAt(summaryStart - kMcapDataEndRecord,
+         footer + kMcapRecordPrefix + 16 - (summaryStart - kMcapDataEndRecord), bytes);
   if (bytes[0] != static_cast<char>(McapOp::DataEnd) || getLE(bytes.data() + 1, 8) != 4)
     return warn("no DataEnd record right before it at byte " + std::to_string(summaryStart));
   const std::string_view covered = std::string_view(bytes).substr(kMcapDataEndRecord);
@@ -158,7 +165,8 @@ bool McapReader::parseSummary(std::string_view summary, std::uint64_t summarySta
   std::uint64_t pos = 0;
   try {
     while (pos < summary.size()) {
-      if (summary.size() - pos < kMcapRecordPrefix || getLE(summary.data() + pos + 1, 8) > summary.size() - pos - kMcapRecordPrefix)
+      if (summary.size() - pos < kMcapRecordPrefix ||
+          getLE(summary.data() + pos + 1, 8) > summary.size() - pos - kMcapRecordPrefix)
         throw McapError(at("a record runs past its end", summaryStart + pos));
       const auto op = static_cast<McapOp>(summary[pos]);
       const std::uint64_t length = getLE(summary.data() + pos + 1, 8);
@@ -201,11 +209,13 @@ bool McapReader::parseSummary(std::string_view summary, std::uint64_t summarySta
       pos += kMcapRecordPrefix + length;
     }
   } catch (const McapError& e) {
-    indexWarnings_.push_back(std::string("summary: ") + e.what() + "; the file is read without its index");
+    indexWarnings_.push_back(std::string("summary: ") + e.what() +
+                             "; the file is read without its index");
     haveStatistics_ = false;
     return false;
   }
-  std::sort(chunks.begin(), chunks.end(), [](const auto& a, const auto& b) { return a.offset < b.offset; });
+  std::sort(chunks.begin(), chunks.end(),
+            [](const auto& a, const auto& b) { return a.offset < b.offset; });
   schemas_ = std::move(schemas);
   channels_ = std::move(channels);
   chunkIndex_ = std::move(chunks);
@@ -229,7 +239,8 @@ McapSummary McapReader::scan(const MessageCallback& onMessage, bool attachmentDa
   if (r.complete) r.bytesRecovered = size_;
   if (!r.complete && pass.dataEnd != 0 && !footerFound_)
     pass.warn("the file ends after its DataEnd record at byte " + std::to_string(pass.dataEnd) +
-              ", without its summary and footer: " + pass.recovered(), true);
+                  ", without its summary and footer: " + pass.recovered(),
+              true);
   if (r.complete && haveStatistics_ && statisticsMessages_ != r.messages && r.chunksSkipped == 0)
     pass.warn("the summary counts " + std::to_string(statisticsMessages_) + " messages, " +
               std::to_string(r.messages) + " were read");
@@ -267,22 +278,29 @@ void McapReader::linearPass(Pass& pass) {
     pass.result.bytesRecovered = pos;
     const std::uint64_t left = size_ - pos;
     if (left == 0) {
-      pass.warn("the file ends at byte " + std::to_string(pos) + " without its DataEnd record: " + pass.recovered(), true);
+      pass.warn("the file ends at byte " + std::to_string(pos) +
+                    " without its DataEnd record: " + pass.recovered(),
+                true);
       break;
     }
     if (left < kMcapRecordPrefix) {
-      pass.warn("the file ends inside a record header at byte " + std::to_string(pos) + ": " + pass.recovered(), true);
+      pass.warn("the file ends inside a record header at byte " + std::to_string(pos) + ": " +
+                    pass.recovered(),
+                true);
       break;
     }
     readAt(pos, kMcapRecordPrefix, prefix);
     const auto op = static_cast<std::uint8_t>(prefix[0]);
     const std::uint64_t length = getLE(prefix.data() + 1, 8);
-    if (first && op != static_cast<std::uint8_t>(McapOp::Header)) pass.warn("no Header record after the magic");
+    if (first && op != static_cast<std::uint8_t>(McapOp::Header))
+      pass.warn("no Header record after the magic");
     if (length > left - kMcapRecordPrefix) {
       const bool chunk = op == static_cast<std::uint8_t>(McapOp::Chunk);
-      pass.warn("the file ends inside " + at("a " + mcapOpName(op) + (chunk ? "" : " record"), pos) +
-                " (it declares " + std::to_string(length) + " bytes, " + std::to_string(left - kMcapRecordPrefix) +
-                " are left): " + pass.recovered(), true);
+      pass.warn("the file ends inside " +
+                    at("a " + mcapOpName(op) + (chunk ? "" : " record"), pos) + " (it declares " +
+                    std::to_string(length) + " bytes, " + std::to_string(left - kMcapRecordPrefix) +
+                    " are left): " + pass.recovered(),
+                true);
       pass.lost = pass.stoppedEarly = true;
       break;
     }
@@ -306,17 +324,20 @@ void McapReader::linearPass(Pass& pass) {
         ++resumed;
       }
     pass.warn(std::to_string(resumed) + " chunks after byte " + std::to_string(pos) +
-              " read through the summary's chunk index", true);
+                  " read through the summary's chunk index",
+              true);
   } else {
     pass.lost = true;
   }
 }
 
 // One record of the data section; false when the file stops making sense here.
-bool McapReader::handleRecord(Pass& pass, std::uint64_t pos, std::uint8_t op, std::uint64_t length) {
+bool McapReader::handleRecord(Pass& pass, std::uint64_t pos, std::uint8_t op,
+                              std::uint64_t length) {
   const std::string what = mcapOpName(op);
   switch (static_cast<McapOp>(op)) {
-    case McapOp::Chunk: return handleChunk(pass, pos, length);
+    case McapOp::Chunk:
+      return handleChunk(pass, pos, length);
     case McapOp::Attachment:
       if (pass.collect) readAttachment(pass, pos, length);
       return true;
@@ -325,13 +346,17 @@ bool McapReader::handleRecord(Pass& pass, std::uint64_t pos, std::uint8_t op, st
     case McapOp::AttachmentIndex:
     case McapOp::MetadataIndex:
     case McapOp::Statistics:
-    case McapOp::SummaryOffset: return true;
-    case McapOp::Footer: pass.warn(at("a footer before any DataEnd record", pos)); return false;
+    case McapOp::SummaryOffset:
+      return true;
+    case McapOp::Footer:
+      pass.warn(at("a footer before any DataEnd record", pos));
+      return false;
     case McapOp::Header:
     case McapOp::Schema:
     case McapOp::Channel:
     case McapOp::Message:
-    case McapOp::Metadata: break;
+    case McapOp::Metadata:
+      break;
     default:
       if (op == 0) {
         pass.warn(at("opcode 0x00, which no record has,", pos) + ": the data is damaged from here");
@@ -367,8 +392,11 @@ bool McapReader::handleRecord(Pass& pass, std::uint64_t pos, std::uint8_t op, st
       m.logTime_ns = f.u64();
       m.publishTime_ns = f.u64();
       m.data = f.rest();
-      if (channels_.count(m.channel) == 0) pass.warn(at("a message on undefined channel " + std::to_string(m.channel), pos) + ", skipped");
-      else deliver(pass, m);
+      if (channels_.count(m.channel) == 0)
+        pass.warn(at("a message on undefined channel " + std::to_string(m.channel), pos) +
+                  ", skipped");
+      else
+        deliver(pass, m);
     }
   } catch (const McapError& e) {
     pass.warn(at(what, pos) + ": " + e.what() + "; skipped");
@@ -380,16 +408,19 @@ bool McapReader::handleChunk(Pass& pass, std::uint64_t pos, std::uint64_t length
   ++pass.result.chunks;
   if (indexed_ && !chunkIndex_.empty()) {
     // Where the index knows every chunk, one it does not know means a damaged length.
-    const auto it = std::lower_bound(chunkIndex_.begin(), chunkIndex_.end(), pos,
-                                     [](const McapChunkInfo& c, std::uint64_t p) { return c.offset < p; });
+    const auto it =
+        std::lower_bound(chunkIndex_.begin(), chunkIndex_.end(), pos,
+                         [](const McapChunkInfo& c, std::uint64_t p) { return c.offset < p; });
     if (it == chunkIndex_.end() || it->offset != pos || it->length != kMcapRecordPrefix + length) {
       --pass.result.chunks;
-      pass.warn(at("a chunk", pos) + " that the summary's index does not list: the data is damaged from here");
+      pass.warn(at("a chunk", pos) +
+                " that the summary's index does not list: the data is damaged from here");
       return false;
     }
   }
   if (length > limits_.maxRecordBytes) {
-    pass.skipChunk(pos, mib(length) + " compressed, over the limit of " + mib(limits_.maxRecordBytes));
+    pass.skipChunk(pos,
+                   mib(length) + " compressed, over the limit of " + mib(limits_.maxRecordBytes));
     return true;
   }
   if (length >= 16 && (pass.start > 0 || pass.end < kNoEnd)) {
@@ -403,11 +434,13 @@ bool McapReader::handleChunk(Pass& pass, std::uint64_t pos, std::uint64_t length
 
 void McapReader::readIndexedChunk(Pass& pass, const McapChunkInfo& chunk) {
   if (chunk.length - kMcapRecordPrefix > limits_.maxRecordBytes) {
-    pass.skipChunk(chunk.offset, mib(chunk.length) + ", over the limit of " + mib(limits_.maxRecordBytes));
+    pass.skipChunk(chunk.offset,
+                   mib(chunk.length) + ", over the limit of " + mib(limits_.maxRecordBytes));
     return;
   }
   readAt(chunk.offset, chunk.length, record_);
-  if (record_[0] != static_cast<char>(McapOp::Chunk) || getLE(record_.data() + 1, 8) != chunk.length - kMcapRecordPrefix) {
+  if (record_[0] != static_cast<char>(McapOp::Chunk) ||
+      getLE(record_.data() + 1, 8) != chunk.length - kMcapRecordPrefix) {
     pass.skipChunk(chunk.offset, "not the chunk record that the summary's index describes");
     return;
   }
@@ -446,7 +479,8 @@ bool McapReader::decompress(Pass& pass, std::uint64_t pos, const ChunkHead& head
   const std::uint64_t n = head.uncompressed;
   if (head.compression.empty()) {
     if (n != compressed.size()) {
-      pass.skipChunk(pos, "it declares " + std::to_string(n) + " bytes and holds " + std::to_string(compressed.size()));
+      pass.skipChunk(pos, "it declares " + std::to_string(n) + " bytes and holds " +
+                              std::to_string(compressed.size()));
       return false;
     }
     records = compressed;
@@ -457,10 +491,12 @@ bool McapReader::decompress(Pass& pass, std::uint64_t pos, const ChunkHead& head
     return false;
   }
   if (n > limits_.maxChunkUncompressed) {
-    pass.skipChunk(pos, "it declares " + mib(n) + " uncompressed, over the limit of " + mib(limits_.maxChunkUncompressed));
+    pass.skipChunk(pos, "it declares " + mib(n) + " uncompressed, over the limit of " +
+                            mib(limits_.maxChunkUncompressed));
     return false;
   }
-  const double ratio = static_cast<double>(n) / static_cast<double>(std::max<std::size_t>(compressed.size(), 1));
+  const double ratio =
+      static_cast<double>(n) / static_cast<double>(std::max<std::size_t>(compressed.size(), 1));
   if (n > limits_.ratioCheckAbove && ratio > limits_.maxCompressionRatio) {
     pass.skipChunk(pos, "it declares " + mib(n) + " from " + std::to_string(compressed.size()) +
                             " bytes, a compression ratio over the limit of " +
@@ -469,9 +505,10 @@ bool McapReader::decompress(Pass& pass, std::uint64_t pos, const ChunkHead& head
   }
   const unsigned long long frame = ZSTD_getFrameContentSize(compressed.data(), compressed.size());
   if (frame == ZSTD_CONTENTSIZE_ERROR || (frame != ZSTD_CONTENTSIZE_UNKNOWN && frame > n)) {
-    pass.skipChunk(pos, frame == ZSTD_CONTENTSIZE_ERROR ? std::string("its records are not zstd")
-                                                        : "its zstd frame holds " + std::to_string(frame) +
-                                                              " bytes, more than the " + std::to_string(n) + " it declares");
+    pass.skipChunk(pos, frame == ZSTD_CONTENTSIZE_ERROR
+                            ? std::string("its records are not zstd")
+                            : "its zstd frame holds " + std::to_string(frame) +
+                                  " bytes, more than the " + std::to_string(n) + " it declares");
     return false;
   }
   if (n > chunkCapacity_) {
@@ -480,11 +517,13 @@ bool McapReader::decompress(Pass& pass, std::uint64_t pos, const ChunkHead& head
     chunkCapacity_ = n;
   }
   // The output capacity is the declared size: zstd stops there whatever the frame says.
-  const std::size_t got = ZSTD_decompressDCtx(zstd_, chunkBuffer_.get(), n, compressed.data(), compressed.size());
+  const std::size_t got =
+      ZSTD_decompressDCtx(zstd_, chunkBuffer_.get(), n, compressed.data(), compressed.size());
   if (ZSTD_isError(got) || got != n) {
-    pass.skipChunk(pos, ZSTD_isError(got) ? std::string("zstd: ") + ZSTD_getErrorName(got)
-                                          : "it decompresses to " + std::to_string(got) + " bytes, not the " +
-                                                std::to_string(n) + " it declares");
+    pass.skipChunk(pos, ZSTD_isError(got)
+                            ? std::string("zstd: ") + ZSTD_getErrorName(got)
+                            : "it decompresses to " + std::to_string(got) + " bytes, not the " +
+                                  std::to_string(n) + " it declares");
     return false;
   }
   records = std::string_view(chunkBuffer_.get(), n);
@@ -520,10 +559,13 @@ void McapReader::readChunkRecords(Pass& pass, std::uint64_t pos, std::string_vie
       m.logTime_ns = getLE(content.data() + 6, 8);
       m.publishTime_ns = getLE(content.data() + 14, 8);
       m.data = content.substr(22);
-      if (channels_.count(m.channel) == 0) ++undefined;
-      else deliver(pass, m);
+      if (channels_.count(m.channel) == 0)
+        ++undefined;
+      else
+        deliver(pass, m);
     } else {
-      pass.warn(at("chunk", pos) + ": a " + mcapOpName(static_cast<std::uint8_t>(op)) + " record inside it, ignored");
+      pass.warn(at("chunk", pos) + ": a " + mcapOpName(static_cast<std::uint8_t>(op)) +
+                " record inside it, ignored");
     }
   }
   if (undefined > 0)
@@ -542,7 +584,8 @@ void McapReader::addSchema(Pass& pass, std::uint64_t pos, std::string_view conte
     if (s.id == 0) return;  // invalid by the specification: ignored
     const auto [it, added] = schemas_.try_emplace(s.id, s);
     if (!added && !(it->second == s))
-      pass.warn(at("schema " + std::to_string(s.id), pos) + " differs from its first definition, which is kept");
+      pass.warn(at("schema " + std::to_string(s.id), pos) +
+                " differs from its first definition, which is kept");
   } catch (const McapError& e) {
     pass.warn(at("near byte", pos) + ": " + e.what());
   }
@@ -559,7 +602,8 @@ void McapReader::addChannel(Pass& pass, std::uint64_t pos, std::string_view cont
     c.metadata = f.stringMap();
     const auto [it, added] = channels_.try_emplace(c.id, c);
     if (!added && !(it->second == c))
-      pass.warn(at("channel " + std::to_string(c.id), pos) + " differs from its first definition, which is kept");
+      pass.warn(at("channel " + std::to_string(c.id), pos) +
+                " differs from its first definition, which is kept");
   } catch (const McapError& e) {
     pass.warn(at("near byte", pos) + ": " + e.what());
   }
@@ -586,8 +630,9 @@ void McapReader::readAttachment(Pass& pass, std::uint64_t pos, std::uint64_t len
     return;
   }
   if (pass.attachmentData && a.dataBytes > limits_.maxAttachmentBytes) {
-    pass.warn(at("attachment '" + a.name + "'", pos) + ": " + mib(a.dataBytes) + ", over the limit of " +
-              mib(limits_.maxAttachmentBytes) + "; its data is not loaded");
+    pass.warn(at("attachment '" + a.name + "'", pos) + ": " + mib(a.dataBytes) +
+              ", over the limit of " + mib(limits_.maxAttachmentBytes) +
+              "; its data is not loaded");
   } else if (pass.attachmentData) {
     readAt(pos + kMcapRecordPrefix, length, record_);
     const auto crc = static_cast<std::uint32_t>(getLE(record_.data() + length - 4, 4));
@@ -606,7 +651,8 @@ void McapReader::deliver(Pass& pass, const McapMessageView& m) const {
   McapSummary& r = pass.result;
   r.firstTime_ns = r.messages == 0 ? m.logTime_ns : std::min(r.firstTime_ns, m.logTime_ns);
   r.lastTime_ns = r.messages == 0 ? m.logTime_ns : std::max(r.lastTime_ns, m.logTime_ns);
-  if (!pass.lost) r.lastGoodTime_ns = r.messages == 0 ? m.logTime_ns : std::max(r.lastGoodTime_ns, m.logTime_ns);
+  if (!pass.lost)
+    r.lastGoodTime_ns = r.messages == 0 ? m.logTime_ns : std::max(r.lastGoodTime_ns, m.logTime_ns);
   ++r.messages;
   ++r.perChannel[m.channel];
   if (pass.onMessage != nullptr && *pass.onMessage) (*pass.onMessage)(m);

@@ -136,9 +136,8 @@ void McapWriter::declareInChunk(std::uint16_t channelId, Channel& channel) {
   chunkChannels_.push_back(channelId);
 }
 
-void McapWriter::attach(std::string_view name, std::string_view mediaType,
-                        std::uint64_t logTime_ns, std::uint64_t createTime_ns,
-                        std::string_view data) {
+void McapWriter::attach(std::string_view name, std::string_view mediaType, std::uint64_t logTime_ns,
+                        std::uint64_t createTime_ns, std::string_view data) {
   checkWritable();
   closeChunk();
   // The data goes out as it is (attachments can be large parts): prefix, data, CRC.
@@ -171,7 +170,8 @@ void McapWriter::attach(std::string_view name, std::string_view mediaType,
   ++attachments_;
 }
 
-void McapWriter::metadata(std::string_view name, const std::map<std::string, std::string>& entries) {
+void McapWriter::metadata(std::string_view name,
+                          const std::map<std::string, std::string>& entries) {
   checkWritable();
   closeChunk();
   out_.clear();

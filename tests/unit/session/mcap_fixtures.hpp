@@ -73,7 +73,8 @@ struct Sample {
 // Two schemas, three channels, `count` messages at 1 kHz from t0 (channel 1 every second
 // message, 2 and 3 every fourth), with `extras` an attachment after the first third and a
 // metadata record after the second.
-inline Sample writeSample(const std::string& path, std::uint32_t count, McapWriter::Options options = {},
+inline Sample writeSample(const std::string& path, std::uint32_t count,
+                          McapWriter::Options options = {},
                           std::uint64_t t0_ns = 1'700'000'000'000'000'000ull, bool extras = true) {
   Sample sample;
   McapWriter w(path, options);
@@ -88,8 +89,10 @@ inline Sample writeSample(const std::string& path, std::uint32_t count, McapWrit
     std::string data = samplePayload(i, 40 + i % 200);
     w.write(channel, i, t, t + 7, data);
     sample.messages.push_back({channel, i, t, std::move(data)});
-    if (extras && i == count / 3) w.attach("part.brep", "application/octet-stream", t, t - 5, samplePayload(999, 5000));
-    if (extras && i == 2 * count / 3) w.metadata("session", {{"operator", "test"}, {"device", "scripted"}});
+    if (extras && i == count / 3)
+      w.attach("part.brep", "application/octet-stream", t, t - 5, samplePayload(999, 5000));
+    if (extras && i == 2 * count / 3)
+      w.metadata("session", {{"operator", "test"}, {"device", "scripted"}});
   }
   w.close();
   sample.chunks = w.chunks();

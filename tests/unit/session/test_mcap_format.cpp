@@ -22,10 +22,11 @@ TEST(McapFormat, FieldsAreLittleEndianWithLengthPrefixes) {
   putU64(out, 0x0708090A0B0C0D0Eull);
   putString(out, "ab");
   putStringMap(out, {{"k", "v"}});
-  const std::string expected("\x02\x01\x06\x05\x04\x03\x0E\x0D\x0C\x0B\x0A\x09\x08\x07"
-                             "\x02\0\0\0ab"
-                             "\x0A\0\0\0\x01\0\0\0k\x01\0\0\0v",
-                             14 + 6 + 14);
+  const std::string expected(
+      "\x02\x01\x06\x05\x04\x03\x0E\x0D\x0C\x0B\x0A\x09\x08\x07"
+      "\x02\0\0\0ab"
+      "\x0A\0\0\0\x01\0\0\0k\x01\0\0\0v",
+      14 + 6 + 14);
   EXPECT_EQ(out, expected);
 
   FieldReader r(out, "test");
@@ -56,7 +57,9 @@ TEST(McapFormat, ReadingPastTheEndThrowsAClearError) {
     r.string();
     FAIL();
   } catch (const McapError& e) {
-    EXPECT_STREQ(e.what(), "schema record is shorter than its fields (a field of 1000 bytes at offset 4, 5 left)");
+    EXPECT_STREQ(
+        e.what(),
+        "schema record is shorter than its fields (a field of 1000 bytes at offset 4, 5 left)");
   }
   FieldReader empty("", "channel");
   EXPECT_THROW(empty.u16(), McapError);

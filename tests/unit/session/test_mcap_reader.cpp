@@ -12,8 +12,9 @@
 
 #include "session/mcap_fixtures.hpp"
 
-// The largest single heap request of this thread while armed: proves that a file's claims
-// (a declared size, a bomb) never become an allocation. Interposes malloc for this test.
+// The largest single heap request of this thread since a test reset it: proves that what a
+// file only claims (a declared size, a bomb) never becomes an allocation. Interposes malloc
+// for this test executable.
 extern "C" {
 void* __libc_malloc(std::size_t);
 void* __libc_calloc(std::size_t, std::size_t);
@@ -180,8 +181,10 @@ TEST(McapReader, OpensOnlyMcapFiles) {
     McapReader r(dir.file("missing.mcap"));
     FAIL();
   } catch (const McapError& e) {
-    EXPECT_NE(std::string(e.what()).find("cannot open " + dir.file("missing.mcap") + ": No such file"),
-              std::string::npos) << e.what();
+    EXPECT_NE(
+        std::string(e.what()).find("cannot open " + dir.file("missing.mcap") + ": No such file"),
+        std::string::npos)
+        << e.what();
   }
   writeFile(dir.file("text.mcap"), "hello, this is not MCAP at all\n");
   writeFile(dir.file("empty.mcap"), "");
@@ -220,8 +223,10 @@ TEST(McapReader, TruncatedAnywhereReadsItsCompleteChunks) {
     std::uint64_t expected = 0, lastTime = 0;
     bool inChunk = false;
     for (const McapChunkInfo& c : chunks) {
-      if (c.offset + c.length <= n) expected += messagesIn(sample, c), lastTime = c.endTime_ns;
-      else inChunk = inChunk || c.offset < n;
+      if (c.offset + c.length <= n)
+        expected += messagesIn(sample, c), lastTime = c.endTime_ns;
+      else
+        inChunk = inChunk || c.offset < n;
     }
     Read r;
     ASSERT_NO_THROW(r = readChecked(cut, sample)) << "cut at " << n;
@@ -234,12 +239,16 @@ TEST(McapReader, TruncatedAnywhereReadsItsCompleteChunks) {
     EXPECT_LE(r.summary.bytesRecovered, n);
     EXPECT_EQ(r.summary.fileBytes, n);
     ASSERT_FALSE(r.summary.warnings.empty()) << n;
-    EXPECT_NE(r.summary.warnings.back().find("the file ends"), std::string::npos) << r.summary.warnings.back();
-    EXPECT_NE(r.summary.warnings.back().find(std::to_string(expected) + " messages recovered up to"),
-              std::string::npos) << r.summary.warnings.back();
+    EXPECT_NE(r.summary.warnings.back().find("the file ends"), std::string::npos)
+        << r.summary.warnings.back();
+    EXPECT_NE(
+        r.summary.warnings.back().find(std::to_string(expected) + " messages recovered up to"),
+        std::string::npos)
+        << r.summary.warnings.back();
     if (inChunk) {
       ++insideChunks;
-      EXPECT_NE(r.summary.warnings.back().find("the file ends inside a chunk at byte"), std::string::npos)
+      EXPECT_NE(r.summary.warnings.back().find("the file ends inside a chunk at byte"),
+                std::string::npos)
           << r.summary.warnings.back();
     }
   }
@@ -268,7 +277,8 @@ TEST(McapReader, ChunkWithABadCrcIsSkippedAndTheOthersRead) {
   EXPECT_EQ(r.summary.messages, sample.messages.size() - messagesIn(sample, bad));
   EXPECT_EQ(r.summary.chunksSkipped, 1u);
   EXPECT_TRUE(r.intact);
-  EXPECT_TRUE(contains(r.summary.warnings, "chunk at byte " + std::to_string(bad.offset) + ": CRC mismatch; skipped"))
+  EXPECT_TRUE(contains(r.summary.warnings,
+                       "chunk at byte " + std::to_string(bad.offset) + ": CRC mismatch; skipped"))
       << joined(r.summary.warnings);
   EXPECT_EQ(r.summary.lastGoodTime_ns, chunks[2].endTime_ns);
   EXPECT_EQ(r.summary.lastTime_ns, sample.messages.back().logTime_ns);
@@ -285,7 +295,8 @@ TEST(McapReader, DamagedFirstChunkLosesOnlyItsOwnMessages) {
   const std::vector<McapChunkInfo> chunks = McapReader(path).chunkIndex();
   const McapChunkInfo first = chunks.front(), last = chunks.back();
   const std::string good = readFile(path).substr(0, last.offset + 10);
-  const std::uint64_t kept = sample.messages.size() - messagesIn(sample, first) - messagesIn(sample, last);
+  const std::uint64_t kept =
+      sample.messages.size() - messagesIn(sample, first) - messagesIn(sample, last);
   const std::uint64_t payload = first.offset + first.length - first.compressedBytes;
   int tried = 0;
   for (std::uint64_t at = payload; at < first.offset + first.length; at += 97, ++tried) {
@@ -296,7 +307,8 @@ TEST(McapReader, DamagedFirstChunkLosesOnlyItsOwnMessages) {
     ASSERT_EQ(r.summary.messages, kept) << "byte " << at << joined(r.summary.warnings);
     EXPECT_TRUE(r.intact);
     EXPECT_EQ(r.summary.perChannel.size(), 3u) << "a channel was orphaned";
-    EXPECT_TRUE(contains(r.summary.warnings, "chunk at byte " + std::to_string(first.offset) + ": "))
+    EXPECT_TRUE(
+        contains(r.summary.warnings, "chunk at byte " + std::to_string(first.offset) + ": "))
         << joined(r.summary.warnings);
   }
   EXPECT_GT(tried, 10);
@@ -320,8 +332,10 @@ TEST(McapReader, AbsurdRecordLengthStopsTheScanNotTheRead) {
     EXPECT_LT(largestRequest, 4 * kMiB);
     EXPECT_FALSE(r.summary.complete);
     EXPECT_TRUE(r.intact);
-    EXPECT_EQ(r.summary.messages, sample.messages.size() - messagesIn(sample, bad)) << joined(r.summary.warnings);
-    EXPECT_TRUE(contains(r.summary.warnings, "read through the summary's chunk index")) << joined(r.summary.warnings);
+    EXPECT_EQ(r.summary.messages, sample.messages.size() - messagesIn(sample, bad))
+        << joined(r.summary.warnings);
+    EXPECT_TRUE(contains(r.summary.warnings, "read through the summary's chunk index"))
+        << joined(r.summary.warnings);
     EXPECT_EQ(r.summary.lastGoodTime_ns, chunks[3].endTime_ns);
     writeFile(path, good);
   }
@@ -333,7 +347,8 @@ TEST(McapReader, AbsurdRecordLengthStopsTheScanNotTheRead) {
   std::uint64_t expected = 0;
   for (int i = 0; i < 4; ++i) expected += messagesIn(sample, chunks[i]);
   EXPECT_EQ(r.summary.messages, expected);
-  EXPECT_TRUE(contains(r.summary.warnings, "the file ends inside a chunk at byte " + std::to_string(bad.offset) +
+  EXPECT_TRUE(contains(r.summary.warnings, "the file ends inside a chunk at byte " +
+                                               std::to_string(bad.offset) +
                                                " (it declares 4611686018427387904 bytes"))
       << joined(r.summary.warnings);
 }
@@ -350,8 +365,10 @@ TEST(McapReader, HugeDeclaredUncompressedSizeIsRefusedWithoutAllocating) {
   const Read r = readChecked(path, sample);
   EXPECT_LT(largestRequest, 4 * kMiB);
   EXPECT_EQ(r.summary.messages, sample.messages.size() - messagesIn(sample, chunks[1]));
-  EXPECT_TRUE(contains(r.summary.warnings, "chunk at byte " + std::to_string(chunks[1].offset) +
-                                               ": it declares 1099511627776.0 MiB uncompressed, over the limit of 256.0 MiB"))
+  EXPECT_TRUE(
+      contains(r.summary.warnings,
+               "chunk at byte " + std::to_string(chunks[1].offset) +
+                   ": it declares 1099511627776.0 MiB uncompressed, over the limit of 256.0 MiB"))
       << joined(r.summary.warnings);
 }
 
@@ -375,9 +392,14 @@ TEST(McapReader, ZstdBombIsRefusedWithoutAllocatingIt) {
     std::string says;
   };
   const std::vector<Case> cases = {
-      {chunkRecord(1, kGiB, crc, "zstd", bomb), {}, "declares 1024.0 MiB uncompressed, over the limit of 256.0 MiB"},
-      {chunkRecord(1, kGiB, crc, "zstd", bomb), generous, "a compression ratio over the limit of 1000:1"},
-      {chunkRecord(1, kMiB, 0, "zstd", bomb), {}, "its zstd frame holds 1073741824 bytes, more than the 1048576"},
+      {chunkRecord(1, kGiB, crc, "zstd", bomb),
+       {},
+       "declares 1024.0 MiB uncompressed, over the limit of 256.0 MiB"},
+      {chunkRecord(1, kGiB, crc, "zstd", bomb), generous,
+       "a compression ratio over the limit of 1000:1"},
+      {chunkRecord(1, kMiB, 0, "zstd", bomb),
+       {},
+       "its zstd frame holds 1073741824 bytes, more than the 1048576"},
       {chunkRecord(1, kMiB, 0, "zstd", unsized), {}, "zstd: Destination buffer is too small"},
       {chunkRecord(1, kMiB, 0, "lz4", unsized), {}, "compression 'lz4' is not supported"},
   };
@@ -386,11 +408,13 @@ TEST(McapReader, ZstdBombIsRefusedWithoutAllocatingIt) {
     McapReader reader(path, c.limits);
     std::vector<std::uint64_t> times;
     largestRequest = 0;
-    const McapSummary s = reader.scan([&](const McapMessageView& m) { times.push_back(m.logTime_ns); });
+    const McapSummary s =
+        reader.scan([&](const McapMessageView& m) { times.push_back(m.logTime_ns); });
     EXPECT_LT(largestRequest, 2 * kMiB) << c.says;
     EXPECT_EQ(times, std::vector<std::uint64_t>{2}) << c.says;
     EXPECT_EQ(s.chunksSkipped, 1u);
-    EXPECT_TRUE(contains(s.warnings, "chunk at byte " + std::to_string(unfinished({}).size()) + ": "))
+    EXPECT_TRUE(
+        contains(s.warnings, "chunk at byte " + std::to_string(unfinished({}).size()) + ": "))
         << joined(s.warnings);
     EXPECT_TRUE(contains(s.warnings, c.says)) << joined(s.warnings);
   }
@@ -463,7 +487,8 @@ TEST(McapReader, DamagedSummaryFallsBackToTheLinearScan) {
   const Read r = readChecked(path, sample);
   EXPECT_FALSE(r.summary.complete);
   EXPECT_EQ(r.summary.messages, sample.messages.size());
-  EXPECT_TRUE(contains(r.summary.warnings, "summary: CRC mismatch; the file is read without its index"))
+  EXPECT_TRUE(
+      contains(r.summary.warnings, "summary: CRC mismatch; the file is read without its index"))
       << joined(r.summary.warnings);
 }
 
@@ -504,7 +529,8 @@ TEST(McapReader, AttachmentsWithoutDataOverTheLimitOrWithABadCrc) {
   const McapSummary s = reader.scan();
   EXPECT_EQ(s.messages, 300u);
   EXPECT_FALSE(reader.attachments().at(0).dataLoaded);
-  EXPECT_TRUE(contains(s.warnings, "attachment 'part.brep' at byte " + std::to_string(offset) + ": CRC mismatch"))
+  EXPECT_TRUE(contains(
+      s.warnings, "attachment 'part.brep' at byte " + std::to_string(offset) + ": CRC mismatch"))
       << joined(s.warnings);
 }
 
@@ -532,13 +558,15 @@ TEST(McapReader, TimeWindowReturnsExactlyItsMessagesFromFewerChunks) {
     if (k == 0) a = 0, b = ~0ull;
     if (k == 1) a = b = sample.messages[1234].logTime_ns;  // one instant, inclusive
     std::vector<std::uint32_t> got;
-    const McapWindowRead w = reader.readMessages(a, b, [&](const McapMessageView& m) { got.push_back(m.sequence); });
+    const McapWindowRead w =
+        reader.readMessages(a, b, [&](const McapMessageView& m) { got.push_back(m.sequence); });
     EXPECT_TRUE(w.indexed);
     EXPECT_EQ(got, expect(a, b, ~0u)) << a << ".." << b;
     EXPECT_EQ(w.messages, got.size());
     EXPECT_EQ(w.chunksInFile, chunks);
     std::uint64_t overlapping = 0;
-    for (const McapChunkInfo& c : reader.chunkIndex()) overlapping += c.endTime_ns >= a && c.startTime_ns <= b;
+    for (const McapChunkInfo& c : reader.chunkIndex())
+      overlapping += c.endTime_ns >= a && c.startTime_ns <= b;
     EXPECT_EQ(w.chunksRead, overlapping);
     if (k > 0 && b - a < 500'000'000) {
       EXPECT_LT(w.chunksRead, chunks / 4);
@@ -551,10 +579,12 @@ TEST(McapReader, TimeWindowReturnsExactlyItsMessagesFromFewerChunks) {
   McapReader cut(path);
   EXPECT_FALSE(cut.indexed());
   const std::uint32_t recovered = static_cast<std::uint32_t>(
-      std::count_if(sample.messages.begin(), sample.messages.end(), [&](const auto& m) { return m.logTime_ns < half.startTime_ns; }));
+      std::count_if(sample.messages.begin(), sample.messages.end(),
+                    [&](const auto& m) { return m.logTime_ns < half.startTime_ns; }));
   const std::uint64_t a = t0 + 1'000'000'000, b = t0 + 1'300'000'000;
   std::vector<std::uint32_t> got;
-  const McapWindowRead w = cut.readMessages(a, b, [&](const McapMessageView& m) { got.push_back(m.sequence); });
+  const McapWindowRead w =
+      cut.readMessages(a, b, [&](const McapMessageView& m) { got.push_back(m.sequence); });
   EXPECT_FALSE(w.indexed);
   EXPECT_EQ(got, expect(a, b, recovered));
   EXPECT_LT(w.chunksRead, chunks / 4);
@@ -570,7 +600,8 @@ TEST(McapReader, StreamsAFileInChunkSizedMemory) {
   {
     McapWriter w(path);  // 1 MiB chunks
     const auto ch = w.addChannel(0, "/raw", "application/octet-stream");
-    for (std::uint32_t i = 0; i < 30000; ++i) w.write(ch, i, i * 100'000ull, i * 100'000ull, samplePayload(i, 1000));
+    for (std::uint32_t i = 0; i < 30000; ++i)
+      w.write(ch, i, i * 100'000ull, i * 100'000ull, samplePayload(i, 1000));
     w.close();
     written = w.bytes();
   }

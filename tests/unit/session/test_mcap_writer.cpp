@@ -122,7 +122,8 @@ TEST(McapWriter, ClosesChunksOnTime) {
   ASSERT_EQ(reader.chunkIndex().size(), 7u);
   for (std::size_t i = 0; i < 7; ++i) {
     EXPECT_EQ(reader.chunkIndex()[i].startTime_ns, i * 500'000'000ull);
-    EXPECT_EQ(reader.chunkIndex()[i].endTime_ns, std::min<std::uint64_t>(i * 500 + 499, 3199) * 1'000'000ull);
+    EXPECT_EQ(reader.chunkIndex()[i].endTime_ns,
+              std::min<std::uint64_t>(i * 500 + 499, 3199) * 1'000'000ull);
   }
 }
 
@@ -164,7 +165,8 @@ TEST(McapWriter, FlushHandsTheOpenChunkToTheOs) {
   EXPECT_EQ(s.messages, 100u);
   EXPECT_EQ(s.lastGoodTime_ns, 1099u);
   ASSERT_FALSE(s.warnings.empty());
-  EXPECT_NE(s.warnings.back().find("without its DataEnd record: 100 messages recovered"), std::string::npos)
+  EXPECT_NE(s.warnings.back().find("without its DataEnd record: 100 messages recovered"),
+            std::string::npos)
       << s.warnings.back();
   w.flush();  // nothing open: no empty chunk
   EXPECT_EQ(w.chunks(), 1u);
@@ -189,10 +191,11 @@ TEST(McapWriter, IndexesAreTheOnesTheReferenceReaderChecks) {
   EXPECT_EQ(file[summaryStart - 13], static_cast<char>(McapOp::DataEnd));
   EXPECT_EQ(getLE(file.data() + footer + 25, 4),
             mcapCrc32(f.substr(summaryStart, footer + 25 - summaryStart)));
-  const std::uint32_t dataCrc = static_cast<std::uint32_t>(getLE(file.data() + summaryStart - 4, 4));
+  const std::uint32_t dataCrc =
+      static_cast<std::uint32_t>(getLE(file.data() + summaryStart - 4, 4));
   EXPECT_EQ(dataCrc, mcapCrc32(f.substr(0, summaryStart - 13)));
 
-  std::map<std::uint8_t, std::pair<std::uint64_t, std::uint64_t>> groups;  // from the records
+  std::map<std::uint8_t, std::pair<std::uint64_t, std::uint64_t>> groups;   // from the records
   std::map<std::uint8_t, std::pair<std::uint64_t, std::uint64_t>> offsets;  // as declared
   std::uint64_t chunks = 0, indexed = 0;
   for (std::uint64_t pos = summaryStart; pos < footer;) {
@@ -227,7 +230,8 @@ TEST(McapWriter, IndexesAreTheOnesTheReferenceReaderChecks) {
       const std::string_view src = chunk.bytes(chunk.u64());
       ASSERT_EQ(src.size(), compressed);
       std::string records(uncompressed, '\0');
-      ASSERT_EQ(ZSTD_decompress(records.data(), records.size(), src.data(), src.size()), uncompressed);
+      ASSERT_EQ(ZSTD_decompress(records.data(), records.size(), src.data(), src.size()),
+                uncompressed);
       EXPECT_EQ(mcapCrc32(records), crc);
       // Its message indexes: right after it, contiguous, exactly indexLength long.
       std::uint64_t expected = offset + chunkLength;
@@ -258,7 +262,8 @@ TEST(McapWriter, IndexesAreTheOnesTheReferenceReaderChecks) {
   EXPECT_EQ(groups, offsets);
   for (const McapOp op : {McapOp::Schema, McapOp::Channel, McapOp::Statistics, McapOp::ChunkIndex,
                           McapOp::AttachmentIndex, McapOp::MetadataIndex})
-    EXPECT_EQ(groups.count(static_cast<std::uint8_t>(op)), 1u) << mcapOpName(static_cast<std::uint8_t>(op));
+    EXPECT_EQ(groups.count(static_cast<std::uint8_t>(op)), 1u)
+        << mcapOpName(static_cast<std::uint8_t>(op));
 }
 
 TEST(McapWriter, FullDiskThrowsNamingTheFileAndTheError) {
@@ -273,7 +278,8 @@ TEST(McapWriter, FullDiskThrowsNamingTheFileAndTheError) {
     McapWriter w("/nonexistent-dir/x.mcap");
     FAIL() << "created a file in a missing directory";
   } catch (const McapError& e) {
-    EXPECT_NE(std::string(e.what()).find("cannot write /nonexistent-dir/x.mcap: No such file"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("cannot write /nonexistent-dir/x.mcap: No such file"),
+              std::string::npos)
         << e.what();
   }
 }
@@ -299,7 +305,8 @@ TEST(McapWriter, WriteErrorStopsTheWriter) {
     McapWriter w(path, options);
     const auto ch = w.addChannel(0, "/raw", "application/octet-stream");
     try {
-      for (std::uint32_t i = 0; i < 100000; ++i, ++written) w.write(ch, i, i, i, samplePayload(i, 200));
+      for (std::uint32_t i = 0; i < 100000; ++i, ++written)
+        w.write(ch, i, i, i, samplePayload(i, 200));
     } catch (const McapError& e) {
       error = e.what();
     }
@@ -308,10 +315,11 @@ TEST(McapWriter, WriteErrorStopsTheWriter) {
     EXPECT_THROW(w.attach("a", "b", 0, 0, "c"), McapError);
     EXPECT_THROW(w.close(), McapError);
     w.close();  // closed now: idempotent, quiet
-  }  // the destructor does not throw
+  }             // the destructor does not throw
   setrlimit(RLIMIT_FSIZE, &saved);
   signal(SIGXFSZ, oldHandler);
-  EXPECT_NE(error.find("cannot write " + path + ": " + std::strerror(EFBIG)), std::string::npos) << error;
+  EXPECT_NE(error.find("cannot write " + path + ": " + std::strerror(EFBIG)), std::string::npos)
+      << error;
   ASSERT_LT(written, 100000u);
 
   McapReader reader(path);

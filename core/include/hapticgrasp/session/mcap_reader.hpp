@@ -75,8 +75,8 @@ struct McapSummary {
   bool complete = false;  // closed properly: DataEnd, a valid summary and footer
   std::uint64_t messages = 0;
   std::uint64_t firstTime_ns = 0, lastTime_ns = 0;  // of the messages read
-  std::uint64_t lastGoodTime_ns = 0;  // the latest log time before anything was lost
-  std::uint64_t bytesRecovered = 0;   // the file up to here read as intact records
+  std::uint64_t lastGoodTime_ns = 0;                // the latest log time before anything was lost
+  std::uint64_t bytesRecovered = 0;                 // the file up to here read as intact records
   std::uint64_t fileBytes = 0;
   std::uint64_t chunks = 0, chunksSkipped = 0;
   std::map<std::uint16_t, std::uint64_t> perChannel;  // messages read per channel id
@@ -87,7 +87,7 @@ struct McapSummary {
 struct McapWindowRead {
   bool indexed = false;  // chunks found through the summary's index, not by a linear scan
   std::uint64_t messages = 0;
-  std::uint64_t chunksRead = 0;    // chunks decompressed
+  std::uint64_t chunksRead = 0;  // chunks decompressed
   std::uint64_t chunksInFile = 0;
   std::vector<std::string> warnings;
 };
@@ -97,7 +97,7 @@ struct McapWindowRead {
 struct McapReaderLimits {
   std::uint64_t maxRecordBytes = 256ull << 20;        // one record (a chunk's compressed bytes)
   std::uint64_t maxChunkUncompressed = 256ull << 20;  // a chunk's declared uncompressed size
-  double maxCompressionRatio = 1000;                   // declared uncompressed / compressed ...
+  double maxCompressionRatio = 1000;                  // declared uncompressed / compressed ...
   std::uint64_t ratioCheckAbove = 16ull << 20;        // ... for chunks declaring more than this
   std::uint64_t maxAttachmentBytes = 256ull << 20;    // larger ones are listed without data
   std::uint64_t maxSummaryBytes = 256ull << 20;
@@ -172,13 +172,13 @@ class McapReader {
   // From the summary, read at open.
   bool footerFound_ = false;
   bool indexed_ = false;
-  std::uint64_t dataEnd_ = 0;  // where the summary says the DataEnd record is
+  std::uint64_t dataEnd_ = 0;              // where the summary says the DataEnd record is
   std::vector<McapChunkInfo> chunkIndex_;  // sorted by offset
   bool haveStatistics_ = false;
   std::uint64_t statisticsMessages_ = 0;
   std::vector<std::string> indexWarnings_;
 
-  std::string record_;  // the record being read, reused
+  std::string record_;                   // the record being read, reused
   std::unique_ptr<char[]> chunkBuffer_;  // decompressed records, reused (not zero-filled)
   std::uint64_t chunkCapacity_ = 0;
 };

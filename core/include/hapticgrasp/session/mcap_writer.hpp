@@ -28,9 +28,9 @@ namespace hg::session {
 // McapWriter::Options (at namespace scope so that it can be a defaulted argument).
 struct McapWriterOptions {
   std::size_t chunkBytes = 1 << 20;  // close a chunk once its records reach this size
-  double chunkSeconds = 1.0;         // ... or a message comes this long after its first (<= 0: never)
+  double chunkSeconds = 1.0;  // ... or a message comes this long after its first (<= 0: never)
   int zstdLevel = 3;
-  std::string profile;               // the Header's profile ("" or e.g. "ros2")
+  std::string profile;  // the Header's profile ("" or e.g. "ros2")
   std::string library = "hapticgrasp";
 };
 
@@ -111,7 +111,7 @@ class McapWriter {
   std::uint64_t chunkMessages_ = 0, chunkStart_ = 0, chunkEnd_ = 0;
   std::vector<std::uint16_t> chunkChannels_;  // channels with messages in it
 
-  std::string out_;  // the bytes of the next write (a chunk and its indexes), reused
+  std::string out_;           // the bytes of the next write (a chunk and its indexes), reused
   std::string indexOffsets_;  // Map<u16, u64>: channel -> its MessageIndex record's offset
 
   // Summary material, serialized as it comes.
