@@ -42,7 +42,12 @@ int benchServo(servo::ServoBenchOptions options, bool json) {
               static_cast<unsigned long long>(r.overruns), r.allocations_in_loop,
               static_cast<unsigned long long>(r.grasps), static_cast<unsigned long long>(r.lifts),
               static_cast<unsigned long long>(r.watchdog_trips));
-  return 0;
+  if (r.recording.enabled)
+    std::printf("  recorded %s: %llu ticks, %llu messages, %.2f MB, %llu records dropped%s%s\n", r.recording.path.c_str(),
+                static_cast<unsigned long long>(r.recording.ticks), static_cast<unsigned long long>(r.recording.messages),
+                r.recording.bytes / 1e6, static_cast<unsigned long long>(r.recording.droppedRecords),
+                r.recording.error.empty() ? "" : "; ", r.recording.error.c_str());
+  return r.recording.error.empty() ? 0 : 1;
 }
 
 int benchScene(servo::SceneBenchOptions options, bool json) {

@@ -13,6 +13,7 @@
 #include "hapticgrasp/grasp/grasp_cylinder_experiment.hpp"
 #include "hapticgrasp/grasp/shake_experiment.hpp"
 #include "device_commands.hpp"
+#include "session_commands.hpp"
 #include "penetration_ladder.hpp"
 
 namespace {
@@ -195,6 +196,39 @@ int main(int argc, char** argv) {
                        "Leave the servo thread and the model builders to the scheduler (no CPU of its own)");
   sceneBench->add_flag("--json", json, "Print JSON");
 
+  // Sessions: record, recording info, replay, report.
+  servo::ServoBenchOptions recordOptions;
+  recordOptions.device = "scripted";
+  recordOptions.seconds = 5;
+  CLI::App* recordCmd = app.add_subcommand("record", "Run the real servo thread with a device and record the session (MCAP)");
+  recordCmd->add_option("--device", recordOptions.device, "A scripted hand or the simulated master arm")
+      ->capture_default_str()->check(CLI::IsMember({"scripted", "arm"}));
+  recordCmd->add_option("--part", recordOptions.part, "Sample part (cylinder, block, loft, plate) or a .brep/.step file (mm)")
+      ->capture_default_str();
+  recordCmd->add_option("--method", recordOptions.method, "Grasp method")
+      ->capture_default_str()->check(CLI::IsMember({"two-finger", "multi-finger"}));
+  recordCmd->add_option("--fingers", recordOptions.fingers, "Fingertips of the multi-finger method (1-5)")->capture_default_str();
+  recordCmd->add_option("--rate", recordOptions.rate_hz, "Servo rate, Hz (50-10000)")->capture_default_str();
+  recordCmd->add_option("--seconds", recordOptions.seconds, "How long to record")->capture_default_str();
+  recordCmd->add_option("-o,--output", recordOptions.recordPath, "The recording to write (.mcap)")->required();
+  recordCmd->add_flag("--json", json, "Print JSON");
+  servoBench->add_option("--record", servoOptions.recordPath, "Record the benchmark's session to this MCAP file");
+
+  CLI::App* recordingCmd = app.add_subcommand("recording", "Inspect recordings");
+  recordingCmd->require_subcommand(1);
+  std::string recordingPath, reportOutput;
+  CLI::App* recordingInfoCmd = recordingCmd->add_subcommand("info", "What a recording holds (works on truncated files)");
+  recordingInfoCmd->add_option("file", recordingPath, "A .mcap recording")->required();
+  recordingInfoCmd->add_flag("--json", json, "Print JSON");
+  bool replayCheck = false;
+  CLI::App* replayCmd = app.add_subcommand("replay", "Re-simulate a recording through the same grasp engine");
+  replayCmd->add_option("file", recordingPath, "A .mcap recording")->required();
+  replayCmd->add_flag("--check", replayCheck, "Compare with what was recorded; exit 1 unless identical");
+  replayCmd->add_flag("--json", json, "Print JSON");
+  CLI::App* reportCmd = app.add_subcommand("report", "Write a recording's report as one self-contained HTML page");
+  reportCmd->add_option("file", recordingPath, "A .mcap recording")->required();
+  reportCmd->add_option("-o,--output", reportOutput, "The report to write (.html)")->required();
+
   CLI::App* devices = app.add_subcommand("devices", "List HID devices and which back end or layout matches each");
 
   CLI::App* experiment = app.add_subcommand("experiment", "Reproduce the papers' experiments");
@@ -228,6 +262,10 @@ int main(int argc, char** argv) {
     if (servoBench->parsed()) return cli::benchServo(servoOptions, json);
     if (sceneBench->parsed()) return cli::benchScene(sceneOptions, json);
     if (devices->parsed()) return cli::listDevices();
+    if (recordCmd->parsed()) return cli::record(recordOptions, json);
+    if (recordingInfoCmd->parsed()) return cli::recordingInfo(recordingPath, json);
+    if (replayCmd->parsed()) return cli::replay(recordingPath, replayCheck, json);
+    if (reportCmd->parsed()) return cli::report(recordingPath, reportOutput);
   } catch (const std::exception& e) {  // GeometryError, HidError, invalid_argument: one line
     std::cerr << "hapticgrasp: " << e.what() << std::endl;
     return 2;

@@ -78,6 +78,20 @@ const char* toString(WatchdogFault fault) {
   return "?";
 }
 
+std::string eventsText(std::uint32_t events) {
+  std::string text;
+  const auto add = [&](const char* name) {
+    if (!text.empty()) text += ", ";
+    text += name;
+  };
+  for (int b = 0; b < grasp::kEventCount; ++b)
+    if (events & (1u << b)) add(grasp::eventName(static_cast<grasp::GraspEvent>(1u << b)));
+  if (events & kWatchdogTrip) add("watchdog trip");
+  if (events & kWatchdogClear) add("watchdog clear");
+  if (events & kGraspReset) add("grasp reset");
+  return text;
+}
+
 int servoCpu() noexcept {
   cpu_set_t set;
   if (sched_getaffinity(0, sizeof set, &set) != 0 || CPU_COUNT(&set) < 2) return -1;
@@ -261,6 +275,7 @@ void ServoLoop::tick(double t, double dt) noexcept {
   s.dt = dt;
   s.computeStart_ns = nowNs();
   s.before = engine_->state();
+  if (records_) s.publications = engine_->parts().publications();
   drainCommands(s);
   readDevice(s);
   watchdog(s);
@@ -471,7 +486,7 @@ void ServoLoop::pushRecord(const TickState& s) noexcept {
   r.compute_us = static_cast<float>(1e-3 * static_cast<double>(now - s.computeStart_ns - s.io_ns));
   r.deviceIo_us = static_cast<float>(1e-3 * static_cast<double>(s.io_ns));
   r.periodError_us = static_cast<float>(1e6 * lastPeriodError_s_);
-  r.scenePublications = engine_->parts().publications();
+  r.scenePublications = s.publications;
   r.movingCount = snap_.movingCount;
   const int n = std::min(snap_.movingCount, TickRecord::kMaxMoving);
   for (int k = 0; k < n; ++k) {

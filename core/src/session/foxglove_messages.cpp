@@ -247,4 +247,30 @@ void encodeLog(std::uint64_t time_ns, int level, std::string_view name, std::str
   msg.SerializeToString(&out);
 }
 
+bool decodeLog(std::string_view bytes, LogEntry& out) {
+  fg::Log msg;
+  if (!msg.ParseFromArray(bytes.data(), static_cast<int>(bytes.size()))) return false;
+  out.time_ns = static_cast<std::uint64_t>(msg.timestamp().seconds()) * 1'000'000'000u +
+                static_cast<std::uint64_t>(msg.timestamp().nanos());
+  out.level = msg.level();
+  out.name = msg.name();
+  out.message = msg.message();
+  return true;
+}
+
+PartMesh boxMesh(const geometry::Aabb& box, std::string name) {
+  PartMesh mesh;
+  mesh.name = std::move(name);
+  if (box.empty()) return mesh;
+  for (int i = 0; i < 8; ++i) {  // corner i: bit 0 x, bit 1 y, bit 2 z
+    mesh.vertices.push_back(static_cast<float>(i & 1 ? box.max.x() : box.min.x()));
+    mesh.vertices.push_back(static_cast<float>(i & 2 ? box.max.y() : box.min.y()));
+    mesh.vertices.push_back(static_cast<float>(i & 4 ? box.max.z() : box.min.z()));
+  }
+  // Two outward-wound triangles per face.
+  mesh.triangles = {0, 2, 3, 0, 3, 1,  4, 5, 7, 4, 7, 6,  0, 1, 5, 0, 5, 4,
+                    2, 6, 7, 2, 7, 3,  0, 4, 6, 0, 6, 2,  1, 3, 7, 1, 7, 5};
+  return mesh;
+}
+
 }  // namespace hg::session

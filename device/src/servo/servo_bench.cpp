@@ -18,6 +18,7 @@
 #include "hapticgrasp/grasp/hand_script.hpp"
 #include "hapticgrasp/grasp/multi_finger/multi_finger_grasp.hpp"
 #include "hapticgrasp/servo/scripted_hand_device.hpp"
+#include "hapticgrasp/session/recorder.hpp"
 #include "servo/advancing_device.hpp"
 
 namespace hg::servo {
@@ -273,6 +274,20 @@ BenchSetup scriptedSetup(const geometry::PartModelPtr& model, const geometry::Ma
   return setup;
 }
 
+// The session as a recording describes it: what replay needs to rebuild the same loop.
+session::SessionDescription describe(const ServoBenchOptions& o, const BenchSetup& setup, int fingers) {
+  session::SessionDescription d;
+  d.software = std::string("hapticgrasp ") + session::softwareVersion();
+  d.build = session::softwareBuild();
+  d.created_utc = session::utcNow();
+  d.method = o.method;
+  d.fingertips = fingers;
+  d.rate_hz = o.rate_hz;
+  d.device = setup.device->spec();
+  d.parts = session::describeParts(*setup.scene);
+  return d;
+}
+
 }  // namespace
 
 OfflineArmBenchResult simulateArmBench(const std::string& part, double seconds, double rate_hz, double maxStep_s) {
@@ -362,6 +377,12 @@ ServoBenchResult runServoBench(const ServoBenchOptions& options) {
   else
     engine = std::make_unique<TwoFingerEngine>(setup.scene);
   ServoLoop loop(setup.device, std::move(engine), config);
+  std::unique_ptr<session::Recorder> recorder;
+  if (!options.recordPath.empty()) {
+    recorder = std::make_unique<session::Recorder>(options.recordPath, describe(options, setup, fingers), setup.scene);
+    loop.record(recorder->ring());
+    recorder->start();
+  }
   loop.start();
   const auto start = std::chrono::steady_clock::now();
   const auto end = start + std::chrono::duration<double>(seconds);
@@ -382,6 +403,11 @@ ServoBenchResult runServoBench(const ServoBenchOptions& options) {
   loop.read(snapshot);
 
   ServoBenchResult r;
+  if (recorder) {
+    recorder->stop();
+    const session::Recorder::Status st = recorder->status();
+    r.recording = {true, st.path, st.dropped, st.bytes, st.messages, st.ticks, st.error};
+  }
   const TimingSummary timing = loop.timing();
   r.part = sample.name;
   r.device = options.device;
@@ -428,7 +454,12 @@ std::string toJson(const ServoBenchResult& r, int indent) {
                             {"watchdog_trips", r.watchdog_trips},
                             {"method", r.method},
                             {"fingers", r.fingers}};
-  return j.dump(indent);
+  nlohmann::json out = j;
+  if (r.recording.enabled)
+    out["recording"] = {{"path", r.recording.path},         {"dropped_records", r.recording.droppedRecords},
+                        {"bytes", r.recording.bytes},       {"messages", r.recording.messages},
+                        {"ticks", r.recording.ticks},       {"error", r.recording.error}};
+  return out.dump(indent);
 }
 
 }  // namespace hg::servo

@@ -13,6 +13,8 @@
 #include "hapticgrasp/geometry/geometry_error.hpp"
 #include "hapticgrasp/geometry/model_cache.hpp"
 #include "hid_input.hpp"
+#include "hapticgrasp/session/recording.hpp"
+#include "hapticgrasp/session/session_series.hpp"
 
 namespace py = pybind11;
 using namespace hg;
@@ -454,6 +456,27 @@ PYBIND11_MODULE(_hapticgrasp, m) {
         "$XDG_CACHE_HOME/hapticgrasp/models, else ~/.cache/hapticgrasp/models.");
   m.def("clear_model_cache_memory", [] { geometry::ModelCache::shared().clearMemory(); },
         "Forgets the models kept in memory (the disk cache stays): as a new FreeCAD session would start.");
+
+  // Recordings (session/): what report.py and the Review panel read. The GIL is released:
+  // a long recording reads on FreeCAD's side while the GUI keeps its events.
+  m.def(
+      "recording_info",
+      [](const std::string& path) {
+        py::gil_scoped_release release;
+        return session::toJson(session::readRecordingInfo(path));
+      },
+      py::arg("path"),
+      "What a recording holds, as JSON text (hapticgrasp recording info --json); raises RuntimeError "
+      "for a file that is not a recording.");
+  m.def(
+      "read_session_series",
+      [](const std::string& path, std::size_t maxBins) {
+        py::gil_scoped_release release;
+        return session::toJson(session::readSessionSeries(path, maxBins));
+      },
+      py::arg("path"), py::arg("max_bins") = 2000,
+      "A recording reduced for a report, as JSON text (session_series.hpp): force, motion and timing "
+      "series in at most max_bins bins (each the largest value in it), every event, the manipulations.");
 
   py::dict events;
   for (int bit = 0; bit < grasp::kEventCount; ++bit)

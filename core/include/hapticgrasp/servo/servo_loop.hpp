@@ -73,6 +73,10 @@ enum ServoEvent : std::uint32_t {
   kGraspReset = 1u << 18,     // a ResetGrasp command was applied
 };
 
+// The names of the event bits raised, comma-separated ("index contact, grasp", "watchdog
+// trip"); "" for none.
+std::string eventsText(std::uint32_t events);
+
 // Small POD commands from the GUI thread.
 struct ServoCommand {
   enum class Kind : std::uint8_t { ResetGrasp, SetPassivityController, Stop };
@@ -222,6 +226,7 @@ class ServoLoop {
     std::uint8_t commands = 0;     // TickCommand bits applied
     grasp::GraspState before = grasp::GraspState::Free;
     bool fresh = false, good = false;
+    std::uint64_t publications = 0;  // the scene's model swaps published when the tick began
     device::DeviceCommand out;     // what the device is given
   };
 

@@ -52,7 +52,7 @@ struct TickRecord {
   double alpha_Ns_per_m[kPorts] = {};   // passivity controller damping
   // Timing of this tick: compute (without device I/O), device I/O, |period error|.
   float compute_us = 0, deviceIo_us = 0, periodError_us = 0;
-  std::uint64_t scenePublications = 0;  // the scene's model swaps published before this tick
+  std::uint64_t scenePublications = 0;  // the scene's model swaps published when this tick began
   int movingCount = 0;                  // parts moving this tick (may exceed kMaxMoving)
   int movingPart[kMaxMoving] = {};
   grasp::PartPose movingPose[kMaxMoving];

@@ -72,4 +72,16 @@ enum LogLevel : int { kLogUnknown = 0, kLogDebug = 1, kLogInfo = 2, kLogWarning 
 // A foxglove.Log line: events and reviewers' annotations; `name` says who wrote it.
 void encodeLog(std::uint64_t time_ns, int level, std::string_view name, std::string_view message, std::string& out);
 
+// A foxglove.Log as read back (events, annotations). False for bytes that are not one.
+struct LogEntry {
+  std::uint64_t time_ns = 0;
+  int level = kLogUnknown;
+  std::string name, message;
+};
+bool decodeLog(std::string_view bytes, LogEntry& out);
+
+// A part's stand-in box (object frame, metres) as a mesh: what viewers show until its own
+// model is built.
+PartMesh boxMesh(const geometry::Aabb& box, std::string name);
+
 }  // namespace hg::session

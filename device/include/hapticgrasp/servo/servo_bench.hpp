@@ -45,6 +45,18 @@ struct ServoBenchOptions {
   std::string method = "two-finger";  // "two-finger" | "multi-finger"
   int fingers = 2;                // fingertips of the multi-finger method (1-5; the arm has 2)
   AllocationCounter allocationCounter = nullptr;
+  std::string recordPath;         // non-empty: record the session there (MCAP, session/recorder.hpp)
+};
+
+// What recording cost and wrote (`bench servo --record`, `record`).
+struct RecordingResult {
+  bool enabled = false;
+  std::string path;
+  std::uint64_t droppedRecords = 0;  // ticks lost because the writer fell behind
+  std::uint64_t bytes = 0;
+  std::uint64_t messages = 0;
+  std::uint64_t ticks = 0;           // tick records written
+  std::string error;                 // why recording stopped early ("" if it did not)
 };
 
 struct ServoBenchResult {
@@ -67,6 +79,7 @@ struct ServoBenchResult {
   std::uint64_t grasps = 0;     // kGrasp events seen (the script did grasp)
   std::uint64_t lifts = 0;      // kLift events
   std::uint64_t watchdog_trips = 0;
+  RecordingResult recording;
 };
 
 // Throws std::invalid_argument for a rate outside [50, 10000] Hz, seconds not in (0, 3600],
@@ -92,6 +105,7 @@ ServoBenchResult runServoBench(double rate_hz, double seconds, bool realtime = t
 // {"part", "device", "backend", "target_hz", "achieved_hz", "seconds", "scheduler", "memory_lock",
 //  "period_err_us": {"p50","p99","max"}, "compute_us": {"p50","p99","max"}, "ticks",
 //  "overruns", "allocations_in_loop", "grasps", "lifts", "watchdog_trips", "method", "fingers"}
+// and, when recording, "recording": {"path", "dropped_records", "bytes", "messages", "ticks", "error"}
 std::string toJson(const ServoBenchResult& result, int indent = 2);
 
 // The script and scene the benchmark uses (a 2 s cycle: approach, grasp, lift, put down,

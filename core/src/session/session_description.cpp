@@ -1,0 +1,315 @@
+#include "hapticgrasp/session/session_description.hpp"
+
+#include <BinTools.hxx>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <cstdio>
+#include <ctime>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "hapticgrasp/geometry/part_model.hpp"
+
+#ifndef HG_VERSION
+#define HG_VERSION "unknown"
+#endif
+#ifndef HG_BUILD
+#define HG_BUILD "unknown build"
+#endif
+
+namespace hg::session {
+namespace {
+
+using nlohmann::json;
+
+// JSON has no infinity or NaN (an unbounded workspace is infinite): those go as strings.
+json num(double v) {
+  if (std::isfinite(v)) return v;
+  return std::isnan(v) ? "nan" : v > 0 ? "inf" : "-inf";
+}
+bool fromNum(const json& v, double& out) {
+  if (v.is_number()) {
+    out = v.get<double>();
+    return true;
+  }
+  if (!v.is_string()) return false;
+  const std::string s = v.get<std::string>();
+  if (s == "inf") out = std::numeric_limits<double>::infinity();
+  else if (s == "-inf") out = -std::numeric_limits<double>::infinity();
+  else if (s == "nan") out = std::numeric_limits<double>::quiet_NaN();
+  else return false;
+  return true;
+}
+json vec(const Vec3& v) { return json::array({num(v.x()), num(v.y()), num(v.z())}); }
+json mat(const Mat3& m) {
+  json rows = json::array();
+  for (int r = 0; r < 3; ++r) rows.push_back(json::array({num(m(r, 0)), num(m(r, 1)), num(m(r, 2))}));
+  return rows;
+}
+
+// Readers of other people's files: every access names what is missing.
+const json& field(const json& j, const char* name) {
+  if (!j.is_object() || !j.contains(name)) throw SessionError(std::string("session metadata: no '") + name + "'");
+  return j.at(name);
+}
+double number(const json& j, const char* name) {
+  double out = 0;
+  if (!fromNum(field(j, name), out)) throw SessionError(std::string("session metadata: '") + name + "' is not a number");
+  return out;
+}
+Vec3 toVec(const json& j, const char* name) {
+  const json& v = field(j, name);
+  Vec3 out;
+  if (!v.is_array() || v.size() != 3 || !fromNum(v[0], out.x()) || !fromNum(v[1], out.y()) || !fromNum(v[2], out.z()))
+    throw SessionError(std::string("session metadata: '") + name + "' is not a 3-vector");
+  return out;
+}
+Mat3 toMat(const json& j, const char* name) {
+  const json& v = field(j, name);
+  if (!v.is_array() || v.size() != 3) throw SessionError(std::string("session metadata: '") + name + "' is not a 3x3 matrix");
+  Mat3 m;
+  for (int r = 0; r < 3; ++r) {
+    const json row = json{{"r", v[static_cast<std::size_t>(r)]}};
+    m.row(r) = toVec(row, "r").transpose();
+  }
+  return m;
+}
+
+json poseJson(const grasp::PartPose& p) { return {{"position", vec(p.position)}, {"rotation", mat(p.rotation)}}; }
+grasp::PartPose poseFrom(const json& j) { return {toMat(j, "rotation"), toVec(j, "position")}; }
+
+json deviceJson(const device::DeviceSpec& d) {
+  return {{"name", d.name},
+          {"force_output", d.forceOutput},
+          {"fingertips", d.fingertips},
+          {"max_force_N", num(d.maxForce_N)},
+          {"max_torque_Nm", num(d.maxTorque_Nm)},
+          {"max_stiffness_N_per_m", num(d.maxStiffness_N_per_m)},
+          {"max_damping_Ns_per_m", num(d.maxDamping_Ns_per_m)},
+          {"timeout_s", num(d.timeout_s)},
+          {"workspace", {{"min", vec(d.workspace.min)}, {"max", vec(d.workspace.max)}}}};
+}
+device::DeviceSpec deviceFrom(const json& j) {
+  device::DeviceSpec d;
+  d.name = field(j, "name").get<std::string>();
+  d.forceOutput = field(j, "force_output").get<bool>();
+  d.fingertips = static_cast<int>(number(j, "fingertips"));
+  d.maxForce_N = number(j, "max_force_N");
+  d.maxTorque_Nm = number(j, "max_torque_Nm");
+  d.maxStiffness_N_per_m = number(j, "max_stiffness_N_per_m");
+  d.maxDamping_Ns_per_m = number(j, "max_damping_Ns_per_m");
+  d.timeout_s = number(j, "timeout_s");
+  const json& w = field(j, "workspace");
+  d.workspace.min = toVec(w, "min");
+  d.workspace.max = toVec(w, "max");
+  return d;
+}
+
+json twoFingerJson(const grasp::GraspParameters& p) {
+  return {{"K_c", num(p.K_c)}, {"B_c", num(p.B_c)}, {"K_g", num(p.K_g)}, {"B_g", num(p.B_g)}, {"d_h", num(p.d_h)}, {"K_ox", num(p.K_ox)},
+          {"K_oe", num(p.K_oe)},
+          {"rotational_spring", p.rotationalSpring == grasp::RotationalSpring::PaperRpy ? "paper-rpy" : "rotation-vector"},
+          {"gravity", vec(p.gravity)}, {"rate_cutoff_Hz", num(p.rateCutoff_Hz)},
+          {"tracking_hysteresis_m", num(p.trackingHysteresis_m)}, {"detach_distance_m", num(p.detachDistance_m)},
+          {"box_margin_m", num(p.boxMargin_m)}, {"min_finger_distance_m", num(p.minFingerDistance_m)},
+          {"min_wrist_sine", num(p.minWristSine)}};
+}
+grasp::GraspParameters twoFingerFrom(const json& j) {
+  grasp::GraspParameters p;
+  p.K_c = number(j, "K_c");
+  p.B_c = number(j, "B_c");
+  p.K_g = number(j, "K_g");
+  p.B_g = number(j, "B_g");
+  p.d_h = number(j, "d_h");
+  p.K_ox = number(j, "K_ox");
+  p.K_oe = number(j, "K_oe");
+  p.rotationalSpring = field(j, "rotational_spring").get<std::string>() == "paper-rpy"
+                           ? grasp::RotationalSpring::PaperRpy
+                           : grasp::RotationalSpring::RotationVector;
+  p.gravity = toVec(j, "gravity");
+  p.rateCutoff_Hz = number(j, "rate_cutoff_Hz");
+  p.trackingHysteresis_m = number(j, "tracking_hysteresis_m");
+  p.detachDistance_m = number(j, "detach_distance_m");
+  p.boxMargin_m = number(j, "box_margin_m");
+  p.minFingerDistance_m = number(j, "min_finger_distance_m");
+  p.minWristSine = number(j, "min_wrist_sine");
+  return p;
+}
+
+json multiFingerJson(const grasp::multi_finger::MultiFingerSceneParams& s) {
+  const auto& p = s.grasp;
+  const auto& d = p.distribution;
+  return {{"method", p.method == grasp::multi_finger::Method::Conventional ? "conventional" : "proposed"},
+          {"stiffness", num(p.stiffness)}, {"friction", num(p.friction)}, {"torsional_friction", num(p.torsionalFriction)},
+          {"dynamics_stiffness", num(p.dynamicsStiffness)}, {"rotational_stiffness", num(p.rotationalStiffness)},
+          {"damping_ratio", num(p.dampingRatio)}, {"shell_velocity_tau", num(p.shellVelocityTau)},
+          {"gravity", vec(p.gravity)}, {"contact_damping_ratio", num(p.contactDampingRatio)},
+          {"distribution", {{"gamma1", num(d.gamma1)}, {"min_lever_arm", num(d.minLeverArm)}, {"gamma2", num(d.gamma2)},
+                            {"gamma3", num(d.gamma3)}, {"max_iterations", d.maxIterations}}},
+          {"box_margin_m", num(s.boxMargin_m)}};
+}
+grasp::multi_finger::MultiFingerSceneParams multiFingerFrom(const json& j) {
+  grasp::multi_finger::MultiFingerSceneParams s;
+  auto& p = s.grasp;
+  p.method = field(j, "method").get<std::string>() == "conventional" ? grasp::multi_finger::Method::Conventional
+                                                                      : grasp::multi_finger::Method::Proposed;
+  p.stiffness = number(j, "stiffness");
+  p.friction = number(j, "friction");
+  p.torsionalFriction = number(j, "torsional_friction");
+  p.dynamicsStiffness = number(j, "dynamics_stiffness");
+  p.rotationalStiffness = number(j, "rotational_stiffness");
+  p.dampingRatio = number(j, "damping_ratio");
+  p.shellVelocityTau = number(j, "shell_velocity_tau");
+  p.gravity = toVec(j, "gravity");
+  p.contactDampingRatio = number(j, "contact_damping_ratio");
+  const json& d = field(j, "distribution");
+  p.distribution.gamma1 = number(d, "gamma1");
+  p.distribution.minLeverArm = number(d, "min_lever_arm");
+  p.distribution.gamma2 = number(d, "gamma2");
+  p.distribution.gamma3 = number(d, "gamma3");
+  p.distribution.maxIterations = static_cast<int>(number(d, "max_iterations"));
+  s.boxMargin_m = number(j, "box_margin_m");
+  return s;
+}
+
+json partJson(const RecordedPart& p) {
+  return {{"name", p.name},
+          {"attachment", p.attachment},
+          {"unit", p.unit == geometry::LengthUnit::Metre ? "m" : "mm"},
+          {"backend", p.backend},
+          {"coarse", p.coarse},
+          {"bounds", {{"min", vec(p.bounds.min)}, {"max", vec(p.bounds.max)}}},
+          {"mass", {{"volume_m3", num(p.mass.volume_m3)}, {"mass_kg", num(p.mass.mass_kg)}, {"centre_m", vec(p.mass.centre_m)},
+                    {"inertia_kgm2", mat(p.mass.inertia_kgm2)}}},
+          {"initial_pose", poseJson(p.initialPose)},
+          {"content_hash", p.contentHash}};
+}
+RecordedPart partFrom(const json& j) {
+  RecordedPart p;
+  p.name = field(j, "name").get<std::string>();
+  p.attachment = field(j, "attachment").get<std::string>();
+  p.unit = field(j, "unit").get<std::string>() == "m" ? geometry::LengthUnit::Metre : geometry::LengthUnit::Millimetre;
+  p.backend = field(j, "backend").get<std::string>();
+  p.coarse = field(j, "coarse").get<bool>();
+  const json& b = field(j, "bounds");
+  p.bounds.min = toVec(b, "min");
+  p.bounds.max = toVec(b, "max");
+  const json& m = field(j, "mass");
+  p.mass.volume_m3 = number(m, "volume_m3");
+  p.mass.mass_kg = number(m, "mass_kg");
+  p.mass.centre_m = toVec(m, "centre_m");
+  p.mass.inertia_kgm2 = toMat(m, "inertia_kgm2");
+  p.initialPose = poseFrom(field(j, "initial_pose"));
+  p.contentHash = field(j, "content_hash").get<std::string>();
+  return p;
+}
+
+}  // namespace
+
+std::vector<std::string> SessionDescription::partNames() const {
+  std::vector<std::string> names;
+  names.reserve(parts.size());
+  for (const RecordedPart& p : parts) names.push_back(p.name);
+  return names;
+}
+
+std::string toJson(const SessionDescription& d) {
+  json parts = json::array();
+  for (const RecordedPart& p : d.parts) parts.push_back(partJson(p));
+  const json j = {{"format", 1},
+                  {"document", d.document},
+                  {"software", d.software},
+                  {"build", d.build},
+                  {"created_utc", d.created_utc},
+                  {"method", d.method},
+                  {"fingertips", d.fingertips},
+                  {"rate_hz", num(d.rate_hz)},
+                  {"watchdog_ramp_s", num(d.watchdogRamp_s)},
+                  {"passivity_controller", d.passivityController},
+                  {"device", deviceJson(d.device)},
+                  {"two_finger", twoFingerJson(d.twoFinger)},
+                  {"multi_finger", multiFingerJson(d.multiFinger)},
+                  {"parts", parts}};
+  return j.dump();
+}
+
+SessionDescription sessionFromJson(std::string_view text) {
+  const json j = json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded() || !j.is_object()) throw SessionError("session metadata: not a JSON object");
+  try {
+    if (number(j, "format") != 1) throw SessionError("session metadata: format " + field(j, "format").dump() + " is not 1");
+    SessionDescription d;
+    d.document = field(j, "document").get<std::string>();
+    d.software = field(j, "software").get<std::string>();
+    d.build = field(j, "build").get<std::string>();
+    d.created_utc = field(j, "created_utc").get<std::string>();
+    d.method = field(j, "method").get<std::string>();
+    d.fingertips = static_cast<int>(number(j, "fingertips"));
+    d.rate_hz = number(j, "rate_hz");
+    d.watchdogRamp_s = number(j, "watchdog_ramp_s");
+    d.passivityController = field(j, "passivity_controller").get<bool>();
+    d.device = deviceFrom(field(j, "device"));
+    d.twoFinger = twoFingerFrom(field(j, "two_finger"));
+    d.multiFinger = multiFingerFrom(field(j, "multi_finger"));
+    const json& parts = field(j, "parts");
+    if (!parts.is_array()) throw SessionError("session metadata: 'parts' is not a list");
+    for (const json& p : parts) d.parts.push_back(partFrom(p));
+    return d;
+  } catch (const json::exception& e) {  // a field of the wrong type
+    throw SessionError(std::string("session metadata: ") + e.what());
+  }
+}
+
+std::vector<RecordedPart> describeParts(const grasp::Scene& scene) {
+  std::vector<RecordedPart> parts;
+  parts.reserve(scene.size());
+  for (std::size_t i = 0; i < scene.size(); ++i) {
+    const grasp::ScenePart& s = scene.part(i);
+    RecordedPart p;
+    p.name = s.model ? s.model->name() : "part" + std::to_string(i);
+    p.coarse = s.coarse || !s.model;
+    p.backend = s.penetration ? std::string(s.penetration->name()) : "box";
+    p.bounds = s.bounds;
+    p.mass = s.mass;
+    p.initialPose = s.initialPose;
+    if (s.model) {
+      // Binary BREP: exact to the bit (text BREP rounds to 15 digits), so replay rebuilds
+      // the very same surfaces. FreeCAD reads it with Part.Shape().importBinary().
+      std::ostringstream out(std::ios::binary);
+      BinTools::Write(s.model->shape(), out);
+      p.brep = std::move(out).str();
+      p.unit = s.model->metresPerUnit() == 1.0 ? geometry::LengthUnit::Metre : geometry::LengthUnit::Millimetre;
+      p.contentHash = contentHash(p.brep);
+      p.attachment = "parts/" + p.contentHash + ".brep";
+    }
+    parts.push_back(std::move(p));
+  }
+  return parts;
+}
+
+std::string contentHash(std::string_view text) {
+  std::uint64_t h = 0xcbf29ce484222325ull;  // FNV-1a 64: fast, stable, enough to tell shapes apart
+  for (const unsigned char c : text) {
+    h ^= c;
+    h *= 0x100000001b3ull;
+  }
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+  return hex;
+}
+
+const char* softwareVersion() { return HG_VERSION; }
+const char* softwareBuild() { return HG_BUILD; }
+
+std::string utcNow() {
+  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return text;
+}
+
+}  // namespace hg::session

@@ -1,0 +1,94 @@
+// The session description a recording carries: every parameter round-trips through its
+// JSON to the bit (replay depends on it), parts carry their exact shapes, and a damaged
+// description says which field is wrong.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "hapticgrasp/servo/servo_bench.hpp"
+#include "hapticgrasp/session/session_description.hpp"
+
+namespace hg::session {
+namespace {
+
+bool sameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+SessionDescription sample() {
+  SessionDescription d;
+  d.document = "Review.FCStd";
+  d.software = "hapticgrasp test";
+  d.build = softwareBuild();
+  d.created_utc = utcNow();
+  d.method = "multi-finger";
+  d.fingertips = 3;
+  d.rate_hz = 4000;
+  d.watchdogRamp_s = 0.1 / 3;  // not a short decimal: the JSON must keep every bit
+  d.passivityController = true;
+  d.device.name = "scripted hand";
+  d.device.maxForce_N = 1.0 / 7;
+  d.twoFinger.K_c = 130.0000000001;
+  d.twoFinger.rotationalSpring = grasp::RotationalSpring::PaperRpy;
+  d.multiFinger.grasp.friction = 0.3;
+  d.multiFinger.grasp.distribution.gamma2 = 1e-300;
+  d.parts = describeParts(*servo::benchScene());
+  return d;
+}
+
+TEST(SessionDescription, RoundTripsEveryParameterToTheBit) {
+  const SessionDescription d = sample();
+  const SessionDescription e = sessionFromJson(toJson(d));
+  EXPECT_EQ(e.document, d.document);
+  EXPECT_EQ(e.method, "multi-finger");
+  EXPECT_EQ(e.fingertips, 3);
+  EXPECT_TRUE(sameBits(e.watchdogRamp_s, d.watchdogRamp_s));
+  EXPECT_TRUE(e.passivityController);
+  EXPECT_TRUE(sameBits(e.device.maxForce_N, d.device.maxForce_N));
+  EXPECT_TRUE(sameBits(e.twoFinger.K_c, d.twoFinger.K_c));
+  EXPECT_EQ(e.twoFinger.rotationalSpring, grasp::RotationalSpring::PaperRpy);
+  EXPECT_TRUE(sameBits(e.multiFinger.grasp.distribution.gamma2, 1e-300));
+  ASSERT_EQ(e.parts.size(), 1u);
+  const RecordedPart &p = d.parts[0], &q = e.parts[0];
+  EXPECT_EQ(q.name, p.name);
+  EXPECT_EQ(q.backend, p.backend);
+  EXPECT_EQ(q.attachment, p.attachment);
+  EXPECT_TRUE(q.brep.empty()) << "the shape travels as an attachment, not in the JSON";
+  EXPECT_TRUE(sameBits(q.mass.mass_kg, p.mass.mass_kg));
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_TRUE(sameBits(q.mass.centre_m[i], p.mass.centre_m[i]));
+    EXPECT_TRUE(sameBits(q.initialPose.position[i], p.initialPose.position[i]));
+    for (int j = 0; j < 3; ++j) {
+      EXPECT_TRUE(sameBits(q.initialPose.rotation(i, j), p.initialPose.rotation(i, j)));
+      EXPECT_TRUE(sameBits(q.mass.inertia_kgm2(i, j), p.mass.inertia_kgm2(i, j)));
+    }
+  }
+}
+
+TEST(SessionDescription, PartsCarryTheirExactShapeAndAStableHash) {
+  const auto parts = describeParts(*servo::benchScene());
+  ASSERT_EQ(parts.size(), 1u);
+  EXPECT_EQ(parts[0].name, "cylinder");
+  EXPECT_EQ(parts[0].backend, "analytic");
+  EXPECT_FALSE(parts[0].brep.empty());
+  EXPECT_EQ(parts[0].contentHash, contentHash(parts[0].brep));
+  EXPECT_EQ(parts[0].attachment, "parts/" + parts[0].contentHash + ".brep");
+  EXPECT_EQ(describeParts(*servo::benchScene())[0].contentHash, parts[0].contentHash);  // the same shape, the same hash
+  EXPECT_NE(contentHash("a"), contentHash("b"));
+}
+
+TEST(SessionDescription, ADamagedDescriptionNamesWhatIsWrong) {
+  std::string json = toJson(sample());
+  EXPECT_THROW(sessionFromJson("not json"), SessionError);
+  EXPECT_THROW(sessionFromJson("[1, 2]"), SessionError);
+  const auto at = json.find("\"rate_hz\"");
+  ASSERT_NE(at, std::string::npos);
+  json.replace(at, 9, "\"rate_HZ\"");
+  try {
+    sessionFromJson(json);
+    FAIL() << "a missing field was accepted";
+  } catch (const SessionError& e) {
+    EXPECT_NE(std::string(e.what()).find("rate_hz"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace hg::session
