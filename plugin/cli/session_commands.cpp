@@ -73,8 +73,9 @@ int report(const std::string& path, const std::string& output) {
   const pid_t child = fork();
   if (child < 0) throw std::runtime_error(std::string("report: cannot start python3: ") + std::strerror(errno));
   if (child == 0) {
-    execlp("python3", "python3", script.c_str(), path.c_str(), "-o", out.c_str(), static_cast<char*>(nullptr));
-    std::fprintf(stderr, "hapticgrasp: report: cannot run python3: %s\n", std::strerror(errno));
+    // The Python the _hapticgrasp module was built for (Debian's, with its matplotlib).
+    execlp(HG_PYTHON, HG_PYTHON, script.c_str(), path.c_str(), "-o", out.c_str(), static_cast<char*>(nullptr));
+    std::fprintf(stderr, "hapticgrasp: report: cannot run " HG_PYTHON ": %s\n", std::strerror(errno));
     _exit(127);
   }
   int status = 0;
