@@ -57,6 +57,26 @@ class ClockedHand final : public device::Device {
   device::DeviceSpec spec_ = servo::ScriptedHandDevice::defaultSpec();
 };
 
+// The loop stepped at 2 kHz on the clocked hand, without a thread (deterministic).
+struct SteppedLoop {
+  std::shared_ptr<ClockedHand> device = std::make_shared<ClockedHand>();
+  grasp::ScenePtr scene = servo::benchScene();
+  servo::ServoLoop loop{device, scene, {}, [] {
+                          servo::ServoConfig c;
+                          c.realtime = false;
+                          return c;
+                        }()};
+  SessionDescription description() const { return describeBench(*scene, device->spec(), 2000); }
+  // Ticks [from, to); every `pauseEvery` ticks the writer gets a few milliseconds.
+  void run(int from, int to, int pauseEvery = 0) {
+    for (int k = from; k < to; ++k) {
+      device->now_s = k * 0.0005;
+      loop.step(k * 0.0005, k ? 0.0005 : 0.0);
+      if (pauseEvery && k % pauseEvery == 0) std::this_thread::sleep_for(5ms);
+    }
+  }
+};
+
 TEST(Recorder, KeepsEveryTickOfTheRealThreadAndAllocatesNothingOnIt) {
   const fs::path file = tempDir() / "real.mcap";
   servo::ServoBenchOptions o;
@@ -88,18 +108,11 @@ TEST(Recorder, KeepsEveryTickOfTheRealThreadAndAllocatesNothingOnIt) {
 
 TEST(Recorder, AnnotationsAreWrittenWithTheirTimeAndPart) {
   const fs::path file = tempDir() / "notes.mcap";
-  auto device = std::make_shared<ClockedHand>();
-  const grasp::ScenePtr scene = servo::benchScene();
-  servo::ServoConfig config;
-  config.realtime = false;
-  servo::ServoLoop loop(device, scene, {}, config);
-  Recorder recorder(file, describeBench(*scene, device->spec(), 2000), scene);
-  loop.record(recorder.ring());
+  SteppedLoop session;
+  Recorder recorder(file, session.description(), session.scene);
+  session.loop.record(recorder.ring());
   recorder.start();
-  for (int k = 0; k < 2000; ++k) {  // one second; the ring holds two
-    device->now_s = k * 0.0005;
-    loop.step(k * 0.0005, k ? 0.0005 : 0.0);
-  }
+  session.run(0, 2000);  // one second; the ring holds two
   recorder.annotate(0.5, "the fillet is too sharp to hold", "cylinder");
   recorder.stop();
   const Recorder::Status st = recorder.status();
@@ -115,11 +128,7 @@ TEST(Recorder, AnnotationsAreWrittenWithTheirTimeAndPart) {
 
 TEST(Recorder, AWriteErrorStopsTheRecordingNotTheSession) {
   const fs::path file = tempDir() / "full.mcap";
-  auto device = std::make_shared<ClockedHand>();
-  const grasp::ScenePtr scene = servo::benchScene();
-  servo::ServoConfig config;
-  config.realtime = false;
-  servo::ServoLoop loop(device, scene, {}, config);
+  SteppedLoop session;
   // A "disk" of 256 KiB: writes past it fail with EFBIG (the signal ignored), as ENOSPC would.
   struct sigaction ignore {}, old {};
   ignore.sa_handler = SIG_IGN;
@@ -132,16 +141,12 @@ TEST(Recorder, AWriteErrorStopsTheRecordingNotTheSession) {
   Recorder::Options options;
   options.mcap.chunkBytes = 32 * 1024;  // small chunks: the limit is met mid-session
   {
-    Recorder recorder(file, describeBench(*scene, device->spec(), 2000), scene, options);
-    loop.record(recorder.ring());
+    Recorder recorder(file, session.description(), session.scene, options);
+    session.loop.record(recorder.ring());
     recorder.start();
-    for (int k = 0; k < 12000; ++k) {  // six seconds: far more than 256 KiB
-      device->now_s = k * 0.0005;
-      loop.step(k * 0.0005, k ? 0.0005 : 0.0);
-      if (k % 500 == 0) std::this_thread::sleep_for(5ms);  // let the writer keep up
-    }
+    session.run(0, 12000, 500);  // six seconds: far more than 256 KiB
     servo::ServoSnapshot s;
-    ASSERT_TRUE(loop.read(s));
+    ASSERT_TRUE(session.loop.read(s));
     EXPECT_EQ(s.tick, 12000u);  // the session went on
     recorder.stop();
     const Recorder::Status st = recorder.status();
@@ -186,22 +191,14 @@ TEST(Recorder, AKilledRecordingLosesAtMostAboutASecond) {
 
 TEST(Recorder, TruncatedFilesTellWhatTheyHoldAtEveryCut) {
   const fs::path file = tempDir() / "whole.mcap";
-  auto device = std::make_shared<ClockedHand>();
-  const grasp::ScenePtr scene = servo::benchScene();
-  servo::ServoConfig config;
-  config.realtime = false;
-  servo::ServoLoop loop(device, scene, {}, config);
+  SteppedLoop session;
   Recorder::Options options;
   options.mcap.chunkBytes = 64 * 1024;
   {
-    Recorder recorder(file, describeBench(*scene, device->spec(), 2000), scene, options);
-    loop.record(recorder.ring());
+    Recorder recorder(file, session.description(), session.scene, options);
+    session.loop.record(recorder.ring());
     recorder.start();
-    for (int k = 0; k < 4000; ++k) {
-      device->now_s = k * 0.0005;
-      loop.step(k * 0.0005, k ? 0.0005 : 0.0);
-      if (k % 1000 == 0) std::this_thread::sleep_for(5ms);
-    }
+    session.run(0, 4000, 1000);
     recorder.stop();
   }
   std::string bytes;
