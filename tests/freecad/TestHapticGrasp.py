@@ -1613,6 +1613,9 @@ class MouseHandSession(unittest.TestCase):
             def set_running(self, running):
                 self.running = running
 
+            def show_recording(self, session):   # the recording's final size, after the stop
+                pass
+
         stub = PanelStub()
         controller.session, controller.panel = s, stub
         try:
