@@ -4,9 +4,12 @@ updated by HapticSession.tick() as the GUI timer would.
 
 Run: `freecadcmd -t TestHapticGrasp` with the built package in the Mod folder
 (tests/freecad/run_freecadcmd.sh does that in a throw-away HOME)."""
+import json
 import math
 import os
+import shutil
 import sys
+import tempfile
 import time
 import unittest
 
@@ -1240,6 +1243,85 @@ class ModelCacheInTheWorkbench(unittest.TestCase):
         self.assertEqual(self.start_and_finish().model_sources, {0: "disk"})   # rewritten whole
 
 
+class Recording(unittest.TestCase):
+    """Start records the session (the preference "Record sessions", on by default) beside
+    the saved document; a reviewer's note goes in with the part under the hand; recording
+    changes nothing in the document."""
+
+    def setUp(self):
+        self.dir = tempfile.mkdtemp()
+        self.doc = App.newDocument("HapticGraspRecording")
+        self.doc.UndoMode = 1  # freecadcmd has undo off
+        self.box = self.doc.addObject("Part::Box", "Box")
+        self.box.Length = self.box.Width = self.box.Height = 40
+        self.doc.recompute()
+        self.doc.saveAs(os.path.join(self.dir, "Bench.FCStd"))
+        self.doc.clearUndos()
+        self.session = None
+
+    def tearDown(self):
+        if self.session is not None:
+            self.session.core.stop()
+        App.closeDocument(self.doc.Name)
+        App.ParamGet(hs.PARAMETER_PATH).RemBool(hs.RECORD_KEY)
+        shutil.rmtree(self.dir, ignore_errors=True)
+
+    def test_a_session_records_beside_the_document_with_a_note_naming_the_part(self):
+        self.assertTrue(hs.stored_record())   # on by default
+        before = self.box.Placement
+        self.session = s = hs.HapticSession(self.doc, scene=True)
+        keys, frame = hs.demo_script(s.parts[0], lift=False)   # grasp (0.5 s), release (1.2 s)
+        s.use_hand_script(keys, frame)
+        s.start()
+        path = s.recording
+        self.assertEqual(os.path.dirname(path), os.path.join(self.dir, "Bench.reviews"))
+        self.assertRegex(os.path.basename(path), r"^\d{4}-\d\d-\d\d_\d\d-\d\d-\d\d\.mcap$")
+        self.assertIn("recording to " + path, s.record_reports)
+        self.assertIn("GRASP", run(s, 0.8))
+        self.assertTrue(s.annotate("  the box slips at its edge "))
+        self.assertFalse(s.annotate("   "))   # an empty note is not written
+        run(s, 1.5)
+        s.stop()
+        status = s.recording_status()
+        self.assertEqual((status["error"], status["dropped"], status["annotations"]), ("", 0, 1))
+        self.assertGreater(status["ticks"], 0)
+        self.assertTrue(any(m.startswith("recorded ") and path in m and " MB)" in m for m in s.record_reports),
+                        s.record_reports)
+        self.assertEqual(hs.recording_text(status), "%s, %.1f MB, 0 dropped"
+                         % (os.path.basename(path), status["bytes"] / 1e6))
+        info = json.loads(core.recording_info(path))
+        self.assertTrue(info["complete"])
+        self.assertEqual(info["parts"], ["Box"])
+        self.assertEqual(info["document"], self.doc.FileName)
+        self.assertEqual([(a["text"], a["part"]) for a in info["annotations"]], [("the box slips at its edge", "Box")])
+        # Nothing in the document: no undo entry, the box where it was.
+        self.assertEqual(self.doc.UndoCount, 0)
+        self.assertTrue(hs.same_placement(self.box.Placement, before))
+        self.assertEqual(sorted(os.listdir(self.dir)), ["Bench.FCStd", "Bench.reviews"])
+
+    def test_off_in_the_preferences_records_nothing_and_unsaved_documents_record_under_home(self):
+        hs.store_record(False)
+        self.session = s = hs.HapticSession(self.doc, scene=True)
+        s.use_hand_input(hold_s=0.5)
+        s.start()
+        s.stop()
+        self.assertIsNone(s.recording)
+        self.assertIsNone(s.recording_status())
+        self.assertEqual(hs.recording_text(None), "off")
+        self.assertFalse(s.annotate("nothing to write to"))
+        self.assertFalse(os.path.exists(os.path.join(self.dir, "Bench.reviews")))
+        unsaved = App.newDocument("HapticGraspUnsaved")
+        try:
+            path = hs.recording_path(unsaved, now=0)
+            self.assertEqual(os.path.dirname(path), os.path.expanduser("~/.local/share/HapticGrasp/reviews"))
+            self.assertTrue(os.path.isdir(os.path.dirname(path)))
+            open(path, "w").close()   # the same second again: a new name
+            self.assertTrue(hs.recording_path(unsaved, now=0).endswith("_2.mcap"))
+            os.remove(path)
+        finally:
+            App.closeDocument(unsaved.Name)
+
+
 class SplitIntoSolids(unittest.TestCase):
     """An object holding several solids is one rigid part and the report view says how to
     split it; split_solids makes one object per solid in one undo step."""
@@ -1530,6 +1612,9 @@ class MouseHandSession(unittest.TestCase):
 
             def set_running(self, running):
                 self.running = running
+
+            def show_recording(self, session):   # the recording's final size, after the stop
+                pass
 
         stub = PanelStub()
         controller.session, controller.panel = s, stub

@@ -219,6 +219,24 @@ class _HapticGraspController:
                                target=session.target)
 
     @classmethod
+    def add_note(cls):
+        """Add note (the panel's button, N): asks for a short note and puts it in the
+        recording at the servo's time when the note is given, about the part under the hand."""
+        session = cls.session
+        if session is None or session.recording is None or not session.running:
+            return
+        from PySide import QtGui   # FreeCAD's shim
+        text, ok = QtGui.QInputDialog.getText(Gui.getMainWindow(), Qt.translate("HapticGrasp", "Add note"),
+                                              Qt.translate("HapticGrasp", "Note for the reviewer:"))
+        if not ok or cls.session is not session or not session.running:
+            return   # cancelled, or the session ended while the dialog was open
+        try:
+            if session.annotate(text):
+                App.Console.PrintMessage("HapticGrasp: note added: %s\n" % text.strip())
+        except RuntimeError as e:
+            App.Console.PrintError("HapticGrasp: %s\n" % e)
+
+    @classmethod
     def cancel(cls):
         """Esc: the open manipulation is aborted (part back, no undo entry), haptics stop."""
         if cls.session is None:
@@ -251,6 +269,8 @@ class _HapticGraspController:
             cls.session.cancel_build()   # Stop while building: nothing is kept
         if cls.session is not None:
             cls.session.stop()
+            if cls.panel is not None:
+                cls.panel.show_recording(cls.session)   # the final size
             cls.session = None
             App.Console.PrintMessage("HapticGrasp: stopped\n")
 

@@ -1,5 +1,5 @@
 """Task panel of a haptic session (Gui.Control.showDialog): state, fingertip forces,
-grasping force, servo rate and jitter, Start/Stop. Filled from the controller's timer tick."""
+grasping force, servo rate and jitter, the recording, Start/Stop and Add note (N). Filled from the controller's timer tick."""
 import time
 
 NOT_EXPOSED = "n/a (not in the core snapshot)"
@@ -135,7 +135,8 @@ class HapticTaskPanel:
         for key, title in (("device", "Device"), ("state", "State"), ("part", "Grasped part"),
                            ("index", "Index force"), ("thumb", "Thumb force"), ("grip", "Grasping force"),
                            ("rate", "Servo rate"), ("jitter", "Servo jitter"), ("time", "Servo time"),
-                           ("moves", "Moves / faults"), ("models", "Exact models"), ("sound", "Sound")):
+                           ("moves", "Moves / faults"), ("models", "Exact models"), ("sound", "Sound"),
+                           ("recording", "Recording")):
             label = QtWidgets.QLabel("-")
             label.setObjectName("HapticGrasp_" + key)
             grid.addRow(title + ":", label)
@@ -151,6 +152,14 @@ class HapticTaskPanel:
         buttons.addWidget(self.start_button)
         buttons.addWidget(self.stop_button)
         layout.addLayout(buttons)
+        from PySide2 import QtGui
+        self.note_button = QtWidgets.QPushButton("Add note")
+        self.note_button.setObjectName("HapticGrasp_NoteButton")
+        self.note_button.setToolTip("A short note for the reviewer, in the recording at this moment, about the part "
+                                    "under the hand (N)")
+        self.note_button.setShortcut(QtGui.QKeySequence("N"))   # a window shortcut: works over the 3D view
+        self.note_button.clicked.connect(lambda: self.controller.add_note())
+        layout.addWidget(self.note_button)
         self._add_build_row(layout)
         layout.addStretch(1)
         self.rate = RateMeter()
@@ -194,6 +203,8 @@ class HapticTaskPanel:
         self.device_combo.setEnabled(not running)
         self.start_button.setEnabled(not running)
         self.stop_button.setEnabled(running)
+        session = getattr(self.controller, "session", None)
+        self.note_button.setEnabled(running and session is not None and session.recording is not None)
         if running:
             self.rate = RateMeter()
         else:
@@ -248,6 +259,11 @@ class HapticTaskPanel:
         self.build_label.setText("Rebuilding %s (swapped in when no part is held)" % names)
         self.build_label.setVisible(True)
 
+    def show_recording(self, session):
+        """The Recording field (also once stopped: the final size)."""
+        from . import session as hs
+        self.fields["recording"].setText(hs.recording_text(session.recording_status() if session else None))
+
     def set(self, key, text):
         self.fields[key].setText(text)
 
@@ -283,5 +299,6 @@ class HapticTaskPanel:
         exact, parts = snap.get("exact_parts", 0), len(session.parts)
         f["models"].setText("%d of %d parts" % (exact, parts) if exact >= parts
                             else "%d of %d parts (the others felt as their boxes until built)" % (exact, parts))
+        self.show_recording(session)
         if sounds is not None:
             f["sound"].setText("on" if sounds.available else "silent (no audio output ready)")

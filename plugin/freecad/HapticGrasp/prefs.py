@@ -1,5 +1,5 @@
-"""The preferences page "Haptic Grasp" (Edit > Preferences): the grasp method and the force
-parameters of the two-finger grasp, SI, stored in App.ParamGet(session.PARAMETER_PATH) and
+"""The preferences page "Haptic Grasp" (Edit > Preferences): the grasp method, the force
+parameters of the two-finger grasp, SI, and whether sessions are recorded, stored in App.ParamGet(session.PARAMETER_PATH) and
 read by HapticSession.start().
 Registered from InitGui.py with Gui.addPreferencePage(HapticGraspPreferences, "Haptic Grasp");
 FreeCAD instantiates the class, shows `form` and calls loadSettings()/saveSettings()."""
@@ -30,6 +30,12 @@ class HapticGraspPreferences:
         self.method.addItem("Multi-finger: grasping force kept apart from the resultant (every fingertip "
                             "the device has)", "multi-finger")
         methods.addRow("Grasp method:", self.method)
+        self.record = QtWidgets.QCheckBox("Record sessions")
+        self.record.setObjectName("HapticGrasp_Pref_Record")
+        self.record.setToolTip("Start records each session for review: <document folder>/<document name>.reviews/"
+                               "<date_time>.mcap (unsaved documents: ~/.local/share/HapticGrasp/reviews/). "
+                               "Nothing in the document changes.")
+        methods.addRow(self.record)
         layout.addLayout(methods)
         box = QtWidgets.QGroupBox("Force parameters (SI; the paper's K_c 130, B_c 100, K_g 1000, B_g 800)")
         grid = QtWidgets.QFormLayout(box)
@@ -63,13 +69,16 @@ class HapticGraspPreferences:
         from . import session as hs
         self._show(hs.default_parameters())
         self._show_method(hs.METHODS[0])
+        self.record.setChecked(True)
 
     def loadSettings(self):
         from . import session as hs
         self._show(hs.stored_parameters())
         self._show_method(hs.stored_method())
+        self.record.setChecked(hs.stored_record())
 
     def saveSettings(self):
         from . import session as hs
         hs.store_parameters({key: spin.value() for key, spin in self.spins.items()})
         hs.store_method(self.method.currentData())
+        hs.store_record(self.record.isChecked())

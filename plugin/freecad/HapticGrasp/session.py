@@ -12,6 +12,8 @@ release from GRASP changes nothing. A device fault during a manipulation aborts 
 transaction, puts the part back and says why in the report view.
 """
 import math
+import os
+import time
 
 import FreeCAD as App
 import Part
@@ -46,6 +48,50 @@ def store_method(method):
     if method not in METHODS:
         raise ValueError("unknown grasp method %s (%s)" % (method, ", ".join(METHODS)))
     App.ParamGet(PARAMETER_PATH).SetString(METHOD_KEY, method)
+
+
+# Recording (the preference "Record sessions", on by default): Start records the session
+# into <document folder>/<document name>.reviews/<YYYY-MM-DD_HH-MM-SS>.mcap, or under
+# UNSAVED_REVIEWS_DIR for a document never saved. Nothing in the document changes.
+RECORD_KEY = "RecordSessions"
+UNSAVED_REVIEWS_DIR = os.path.join("~", ".local", "share", "HapticGrasp", "reviews")
+
+
+def stored_record():
+    """Whether Start records the session (on when nothing is stored)."""
+    return App.ParamGet(PARAMETER_PATH).GetBool(RECORD_KEY, True)
+
+
+def store_record(on):
+    App.ParamGet(PARAMETER_PATH).SetBool(RECORD_KEY, bool(on))
+
+
+def recording_path(doc, now=None):
+    """A new file for a session on `doc`, its folder created: <document folder>/<document
+    name>.reviews/<YYYY-MM-DD_HH-MM-SS>.mcap (UNSAVED_REVIEWS_DIR for an unsaved document);
+    "_2", "_3"... after the time when two starts fall in the same second."""
+    if doc.FileName:
+        name = os.path.splitext(os.path.basename(doc.FileName))[0]
+        folder = os.path.join(os.path.dirname(doc.FileName), name + ".reviews")
+    else:
+        folder = os.path.expanduser(UNSAVED_REVIEWS_DIR)
+    os.makedirs(folder, exist_ok=True)
+    stamp = time.strftime("%Y-%m-%d_%H-%M-%S", time.localtime(now))
+    path, n = os.path.join(folder, stamp + ".mcap"), 1
+    while os.path.exists(path):
+        n += 1
+        path = os.path.join(folder, "%s_%d.mcap" % (stamp, n))
+    return path
+
+
+def recording_text(status):
+    """The task panel's Recording field: file name, MB written, dropped records; the error;
+    or "off" (status None)."""
+    if status is None:
+        return "off"
+    if status["error"]:
+        return "error: " + status["error"]
+    return "%s, %.1f MB, %d dropped" % (os.path.basename(status["path"]), status["bytes"] / 1e6, status["dropped"])
 
 
 def default_parameters():
@@ -566,6 +612,9 @@ class HapticSession:
         self.target = None        # the simulated arm: the last target set_hand() gave (Vectors, mm)
         self.arm = None           # the simulated arm's resting hand (arm_rest()), when it is the device
         self.cancelled = False
+        self.recording = None     # the recording's first file while one was asked for (start())
+        self.record_reports = []  # the report view's lines about the recording (apart from messages)
+        self._said_recorded = False
         self._candidates = collect_solids(doc, self.messages)
         self._requested = []   # (PartRef, the shape exported), in the build's request order
         self._next = 0         # candidates exported so far
@@ -845,10 +894,11 @@ class HapticSession:
         return tuple(place(mix(a[i], b[i])) for i in (1, 2, 3))
 
     # --- servo thread -----------------------------------------------------------------
-    def start(self, rate_hz=1000.0, realtime=False, parameters=None, method=None):
+    def start(self, rate_hz=1000.0, realtime=False, parameters=None, method=None, record=None):
         """Starts the servo thread with the force parameters and the grasp method of the
         preferences (or `parameters`, a dict in SI, and `method`). A bad value raises
-        ValueError naming the key."""
+        ValueError naming the key. record: None follows the preference "Record sessions"
+        (recording_path()), False records nothing, a str is the file to record to."""
         if self.cancelled:
             raise RuntimeError("the model build was cancelled")
         if not self.poll_build():
@@ -858,16 +908,69 @@ class HapticSession:
         self.parameters = stored_parameters() if parameters is None else dict(parameters)
         self.core.set_parameters(self.parameters)
         self.core.set_method(stored_method() if method is None else method)
+        self._record_to(stored_record() if record is None else record)
         if self.scene:
             self.core.start_scene(self._scene_requests(), rate_hz, realtime)
             self.feed_shapes()
         else:
             self.core.start(rate_hz, realtime)
+        self._say_recording()
+
+    # --- recording ----------------------------------------------------------------------
+    def _record_to(self, record):
+        """Tells the core where to record (before it starts); a folder that cannot be made
+        is said and haptics start without recording."""
+        if not record:
+            return
+        try:
+            path = record if isinstance(record, str) else recording_path(self.doc)
+        except OSError as e:
+            _warn(self.record_reports, "not recording: %s" % e)
+            return
+        self.core.record_to(path, self.doc.FileName or self.doc.Label)
+        self.recording = path
+
+    def _say_recording(self):
+        if self.recording is None:
+            return
+        status = self.core.recording_status()
+        if status["error"]:
+            _warn(self.record_reports, "not recording: %s" % status["error"])
+        else:
+            _note(self.record_reports, "recording to %s" % self.recording)
+
+    def _say_recorded(self):
+        """The report view's line once the servo stopped: how long, where, how big."""
+        if self.recording is None or self._said_recorded:
+            return
+        self._said_recorded = True
+        status = self.core.recording_status()
+        if not status["files"] or (status["error"] and not status["ticks"]):
+            return   # never recorded: said at start
+        line = "recorded %.1f s to %s (%.1f MB)" % (status["duration_s"], ", ".join(status["files"]),
+                                                    status["bytes"] / 1e6)
+        if status["dropped"]:
+            line += ", %d servo ticks dropped" % status["dropped"]
+        _note(self.record_reports, line)
+
+    def recording_status(self):
+        """The core's recording_status() dict, or None when this session does not record."""
+        return None if self.recording is None else self.core.recording_status()
+
+    def annotate(self, text):
+        """A reviewer's note into the recording at the servo's current time, about the part
+        under the hand. False (nothing written) when not recording or the note is empty."""
+        text = text.strip()
+        if self.recording is None or not text or not self.core.recording_status()["recording"]:
+            return False
+        self.core.annotate(text)
+        return True
 
     def stop(self):
         """Stops the servo thread; a manipulation still open is committed where it is.
         Rebuilds in flight are cancelled."""
         self.core.stop()
+        self._say_recorded()
         if self.scene and self.core.scene_mode:
             self._say_models()   # the models built since the last tick get their line too
         for build, _label in self.rebuilds.values():
@@ -881,6 +984,7 @@ class HapticSession:
         """Esc: stops the servo thread; a manipulation still open is aborted (no undo
         entry, the part back where it was) and the report view says "cancelled"."""
         self.core.stop()
+        self._say_recorded()
         if self.active is not None:
             self._abort("cancelled", _warn)
         else:

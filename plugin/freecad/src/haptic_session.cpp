@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <stdexcept>
 
 #include "hapticgrasp/geometry/backends.hpp"
@@ -217,11 +218,11 @@ void Session::restart(const std::vector<Placement>& placements) {
     }
     loop_->stop();
     loop_.reset();
+    endRecording();
     const grasp::ScenePtr scene = build_->rebase(poses);
     reader_ = servo::SnapshotReader{};
     resetTracker();
-    loop_ = std::make_unique<servo::ServoLoop>(device_, makeEngine(scene), config_);
-    loop_->start();
+    runLoop(scene);
     return;
   }
   if (placements.size() != parts_.size())
@@ -241,11 +242,11 @@ void Session::restart(const std::vector<Placement>& placements) {
   }
   loop_->stop();
   loop_.reset();
+  endRecording();
   for (std::size_t i = 0; i < parts_.size(); ++i) parts_[i].initialPose = poses[i];
   reader_ = servo::SnapshotReader{};
   resetTracker();
-  loop_ = std::make_unique<servo::ServoLoop>(device_, makeEngine(scene), config_);
-  loop_->start();
+  runLoop(scene);
 }
 
 void Session::setHandScript(const std::vector<HandKeyMm>& keys, const Placement& frame,
@@ -416,7 +417,13 @@ void Session::launch(const grasp::ScenePtr& scene, const servo::ServoConfig& con
   device_ = device;
   config_ = config;
   resetTracker();
-  loop_ = std::make_unique<servo::ServoLoop>(device, makeEngine(scene), config);
+  runLoop(scene);
+}
+
+void Session::runLoop(const grasp::ScenePtr& scene) {
+  scene_ = scene;
+  loop_ = std::make_unique<servo::ServoLoop>(device_, makeEngine(scene), config_);
+  startRecording(scene);  // the ring goes to the loop before it starts
   loop_->start();
 }
 
@@ -429,12 +436,15 @@ void Session::setMethod(const std::string& method) {
 
 // The multi-finger method drives every fingertip the device reads, with its paper's
 // defaults (k = k_d = 800 N/m, μ = 1); the two-finger one takes the force parameters.
+grasp::multi_finger::MultiFingerSceneParams Session::multiFingerParams() const {
+  grasp::multi_finger::MultiFingerSceneParams params;
+  params.grasp.gravity = parameters_.gravity;
+  return params;
+}
+
 std::unique_ptr<servo::GraspEngine> Session::makeEngine(const grasp::ScenePtr& scene) const {
-  if (method_ == "multi-finger") {
-    grasp::multi_finger::MultiFingerSceneParams params;
-    params.grasp.gravity = parameters_.gravity;
-    return std::make_unique<servo::MultiFingerEngine>(scene, device_->spec().fingertips, params);
-  }
+  if (method_ == "multi-finger")
+    return std::make_unique<servo::MultiFingerEngine>(scene, device_->spec().fingertips, multiFingerParams());
   return std::make_unique<servo::TwoFingerEngine>(scene, parameters_);
 }
 
@@ -585,6 +595,7 @@ void Session::refreshBackends() {
 
 void Session::stop() noexcept {
   if (loop_) loop_->stop();
+  endRecording();  // after the loop: nothing more enters the ring, the drop count is final
 }
 
 SessionSnapshot Session::snapshot() {
@@ -646,6 +657,141 @@ void Session::setDeviceSilent(bool silent) {
 
 void Session::resetGrasp() {
   if (loop_) loop_->send(servo::ServoCommand{servo::ServoCommand::Kind::ResetGrasp, false});
+}
+
+// --- Recording -------------------------------------------------------------------------
+
+void Session::recordTo(const std::string& path, const std::string& document) {
+  if (loop_) throw std::logic_error("recordTo() must come before start()");
+  recordPath_ = path;
+  recordDocument_ = document;
+  recorded_ = RecordingStatus{};
+}
+
+std::string Session::partName(std::size_t i) const {
+  if (build_) return sceneRequests_.at(i).name;
+  return infos_.at(i).name;
+}
+
+// Everything replay needs to rebuild this loop. Scene mode: the parts whose model is not
+// built yet are recorded coarse, by their box (no BREP); the shapes arrive later and
+// recording their swaps is future work.
+session::SessionDescription Session::describeSession(const grasp::ScenePtr& scene) const {
+  session::SessionDescription d;
+  d.document = recordDocument_;
+  d.software = std::string("hapticgrasp ") + session::softwareVersion();
+  d.build = session::softwareBuild();
+  d.created_utc = session::utcNow();
+  d.method = method_;
+  d.fingertips = method_ == "multi-finger" ? device_->spec().fingertips : 2;
+  d.rate_hz = config_.rate_hz;
+  d.watchdogRamp_s = config_.watchdogRamp_s;
+  d.passivityController = config_.passivityController;
+  d.device = device_->spec();
+  d.twoFinger = parameters_;
+  d.multiFinger = multiFingerParams();
+  d.parts = session::describeParts(*scene);
+  for (std::size_t i = 0; i < d.parts.size(); ++i) d.parts[i].name = partName(i);  // stand-ins have no model name
+  return d;
+}
+
+namespace {
+
+// The k-th file of a session (k from 1): the path given, then "<stem>-k<ext>" beside it.
+std::string recordingFile(const std::string& path, std::size_t k) {
+  if (k <= 1) return path;
+  const std::filesystem::path p(path);
+  return (p.parent_path() / (p.stem().string() + "-" + std::to_string(k) + p.extension().string())).string();
+}
+
+}  // namespace
+
+// A recorder for the loop just made (before it starts). A file that cannot be written is
+// said in the status; the haptic session goes on without recording.
+void Session::startRecording(const grasp::ScenePtr& scene) {
+  if (recordPath_.empty()) return;
+  const std::string path = recordingFile(recordPath_, recorded_.files.size() + 1);
+  recorded_.files.push_back(path);
+  recorded_.path = path;
+  try {
+    recorder_ = std::make_unique<session::Recorder>(path, describeSession(scene), scene);
+    loop_->record(recorder_->ring());
+    recorder_->start();
+  } catch (const std::exception& e) {
+    recorder_.reset();
+    recorded_.error = std::string("cannot record to ") + path + ": " + e.what();
+  }
+}
+
+// Closes the current file and adds its figures to recorded_.
+void Session::endRecording() noexcept {
+  if (!recorder_) return;
+  recorder_->stop();
+  try {
+    const session::Recorder::Status st = recorder_->status();
+    recorded_.ticks += st.ticks;
+    recorded_.dropped += st.dropped;
+    recorded_.bytes += st.bytes;
+    recorded_.annotations += st.annotations;
+    recorded_.duration_s += st.duration_s;
+    if (!st.error.empty()) recorded_.error = st.error;
+  } catch (...) {  // status() copies strings; out of memory: the figures stay as they were
+  }
+  recorder_.reset();
+}
+
+RecordingStatus Session::recordingStatus() const {
+  RecordingStatus out = recorded_;
+  if (!recorder_) return out;
+  const session::Recorder::Status st = recorder_->status();
+  out.recording = st.recording;
+  out.ticks += st.ticks;
+  out.dropped += st.dropped;
+  out.bytes += st.bytes;
+  out.annotations += st.annotations;
+  out.duration_s += st.duration_s;
+  if (!st.error.empty()) out.error = st.error;
+  return out;
+}
+
+namespace {
+
+constexpr double kNoteReach_m = 0.03;  // a note is about a part this near the grip centre
+
+}  // namespace
+
+// The part a note is about: the grasped one, else the part whose box (where the tracker
+// last saw it) is nearest the grip centre, within kNoteReach_m; "" if none. The box, not
+// the surface: simple, and enough to name the part.
+std::string Session::partUnderHand(const servo::ServoSnapshot& s) const {
+  if (!scene_) return {};
+  if (s.graspedPart >= 0 && static_cast<std::size_t>(s.graspedPart) < scene_->size()) return partName(s.graspedPart);
+  const Vec3 centre = 0.5 * (s.hand.index + s.hand.thumb);
+  const auto poses = tracker_.poses();
+  std::string nearest;
+  double best = kNoteReach_m;
+  for (std::size_t i = 0; i < scene_->size() && i < poses.size(); ++i) {
+    const geometry::Aabb& box = scene_->part(i).bounds;
+    if (box.empty()) continue;
+    const Vec3 local = poses[i].toObject(centre);
+    const double d = (local - local.cwiseMax(box.min).cwiseMin(box.max)).norm();
+    if (d < best) {
+      best = d;
+      nearest = partName(i);
+    }
+  }
+  return nearest;
+}
+
+void Session::annotate(const std::string& text) {
+  if (!recorder_) throw std::logic_error("not recording: recordTo() before start()");
+  double time_s = 0;
+  std::string part;
+  if (loop_ && loop_->read(*snap_)) {  // the current loop's time: the recorder's clock
+    time_s = snap_->time_s;
+    part = partUnderHand(*snap_);
+  }
+  recorder_->annotate(time_s, text, part);
 }
 
 }  // namespace hg::freecad

@@ -25,6 +25,7 @@
 #include "hapticgrasp/servo/pose_tracker.hpp"
 #include "hapticgrasp/servo/scripted_hand_device.hpp"
 #include "hapticgrasp/servo/servo_loop.hpp"
+#include "hapticgrasp/session/recorder.hpp"
 
 namespace hg::freecad {
 
@@ -171,6 +172,17 @@ struct SessionSnapshot {
   std::size_t exactParts = 0;  // parts answered by their own model (scene mode: the rest by their box)
 };
 
+// The session's recording (Session::recordTo), over every file it wrote: restart() closes
+// the file and goes on in "<name>-2.mcap" beside it (see Session::restart).
+struct RecordingStatus {
+  std::string path;                 // the file being written (or the last one)
+  std::vector<std::string> files;   // every file, in order
+  bool recording = false;           // the current file's writer runs without error
+  std::string error;                // why recording stopped or could not start; "" if it did not
+  std::uint64_t ticks = 0, dropped = 0, bytes = 0, annotations = 0;  // summed over the files
+  double duration_s = 0;            // summed over the files
+};
+
 class Session {
  public:
   Session() = default;
@@ -274,8 +286,18 @@ class Session {
   std::string modelSource(std::size_t model) const;
   // A built model's summary (its first part's mass), or its error (`error` set).
   PartInfo modelInfo(std::size_t model, std::string* error = nullptr) const;
+  // Stops the servo loop, then the recorder (so that its drop count is final).
   void stop() noexcept;
   bool running() const { return loop_ && loop_->running(); }
+
+  // Before start()/startScene(): record the session into `path` (MCAP; "" records nothing),
+  // `document` naming the FreeCAD document in the recording. A file that cannot be created
+  // does not stop the session: recordingStatus().error says why.
+  void recordTo(const std::string& path, const std::string& document);
+  // A reviewer's note at the loop's latest snapshot time, about the part under the hand.
+  // Throws std::logic_error when not recording.
+  void annotate(const std::string& text);
+  RecordingStatus recordingStatus() const;
 
   SessionSnapshot snapshot();
 
@@ -306,6 +328,19 @@ class Session {
   void resetTracker();
   bool hasDevice() const;
   void launch(const grasp::ScenePtr& scene, const servo::ServoConfig& config);
+  void runLoop(const grasp::ScenePtr& scene);  // a new loop on `scene`, recorded, started
+  grasp::multi_finger::MultiFingerSceneParams multiFingerParams() const;
+  std::string partName(std::size_t i) const;
+  std::string partUnderHand(const servo::ServoSnapshot& s) const;
+
+  // Recording: the current file's recorder; recorded_ sums the files closed before it.
+  std::string recordPath_, recordDocument_;
+  std::unique_ptr<session::Recorder> recorder_;
+  RecordingStatus recorded_;
+  grasp::ScenePtr scene_;  // the running loop's scene (annotate's nearest part)
+  session::SessionDescription describeSession(const grasp::ScenePtr& scene) const;
+  void startRecording(const grasp::ScenePtr& scene);
+  void endRecording() noexcept;
   std::vector<grasp::PartPose> initialPoses() const;
   void refreshBackends();  // scene mode: the backends of parts whose model came in
 

@@ -404,6 +404,31 @@ PYBIND11_MODULE(_hapticgrasp, m) {
           "Scene mode: a model's summary as part_info gives it, 'error' if it failed, and 'source': built, memory "
           "or disk (the model cache), rebuilt (a cache entry not trusted, and why).")
       .def("stop", &freecad::Session::stop, py::call_guard<py::gil_scoped_release>())
+      .def("record_to", &freecad::Session::recordTo, py::arg("path"), py::arg("document") = "",
+           "Before start(): record the session into `path` (MCAP; '' records nothing). restart() goes on in "
+           "'<name>-2.mcap' beside it. A file that cannot be created leaves haptics running: "
+           "recording_status()['error'] says why.")
+      .def("annotate", &freecad::Session::annotate, py::arg("text"),
+           "A reviewer's note at the servo's current time, about the part under the hand (the grasped one, "
+           "else the nearest within 30 mm of the grip centre, else none). Raises RuntimeError when not recording.")
+      .def(
+          "recording_status",
+          [](const freecad::Session& s) {
+            const freecad::RecordingStatus st = s.recordingStatus();
+            py::dict d;
+            d["path"] = st.path;
+            d["files"] = st.files;
+            d["recording"] = st.recording;
+            d["error"] = st.error;
+            d["ticks"] = st.ticks;
+            d["dropped"] = st.dropped;
+            d["bytes"] = st.bytes;
+            d["annotations"] = st.annotations;
+            d["duration_s"] = st.duration_s;
+            return d;
+          },
+          "path (the current or last file), files (every file), recording, error, and over every file: ticks, "
+          "dropped (ticks lost), bytes, annotations, duration_s.")
       .def_property_readonly("running", &freecad::Session::running)
       .def("set_device_silent", &freecad::Session::setDeviceSilent)
       .def("reset_grasp", &freecad::Session::resetGrasp)

@@ -4,14 +4,18 @@
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <thread>
+
+#include <unistd.h>
 
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepTools.hxx>
 
 #include "haptic_session.hpp"
+#include "hapticgrasp/session/recording.hpp"
 
 namespace hg::freecad {
 namespace {
@@ -253,6 +257,81 @@ TEST(HapticSessionScene, RefusesNoPartsOrNoDevice) {
                std::invalid_argument);
   EXPECT_FALSE(session.running());
   EXPECT_THROW(session.wantedShapes(1), std::logic_error);
+}
+
+// Recording: the scripted hand squeezes the cylinder; a note taken meanwhile names it. The
+// file reads complete, with both parts named and nothing dropped; a restart() goes on in
+// "<name>-2.mcap" beside it.
+TEST(HapticSession, RecordsTheSessionWithItsPartsAndANote) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("hg_session_rec_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  const std::string path = (dir / "review.mcap").string();
+  Session session;
+  session.addPart("Cylinder", cylinderBrep(), Placement{{0, 0, 200}, {0, 0, 0, 1}}, geometry::MassSpec::mass(2));
+  session.addPart("Block", blockBrep(), Placement{{-500, 0, 0}, {0, 0, 0, 1}}, geometry::MassSpec::density(1000));
+  // Open around the cylinder (diameter 100 mm), then squeezing it 5 mm deep on each side.
+  const std::array<double, 3> wrist{0, -100, 200};
+  std::vector<HandKeyMm> keys{{0.0, {80, 0, 200}, {-80, 0, 200}, wrist},
+                              {0.5, {45, 0, 200}, {-45, 0, 200}, wrist},
+                              {10.0, {45, 0, 200}, {-45, 0, 200}, wrist}};
+  session.setHandScript(keys, Placement{}, {0, 0, 0});
+  EXPECT_THROW(session.annotate("too early"), std::logic_error);
+  session.recordTo(path, "Test.FCStd");
+  session.start(1000, false);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  const SessionSnapshot snap = session.snapshot();
+  EXPECT_EQ(snap.state, "GRASP");
+  session.annotate("the grip slips here");
+  EXPECT_TRUE(session.recordingStatus().recording);
+  session.restart(snap.placements);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  session.stop();
+  EXPECT_THROW(session.recordTo(path, ""), std::logic_error);
+
+  const RecordingStatus status = session.recordingStatus();
+  EXPECT_FALSE(status.recording);
+  EXPECT_EQ(status.error, "");
+  ASSERT_EQ(status.files.size(), 2u);
+  EXPECT_EQ(status.files[0], path);
+  EXPECT_EQ(status.files[1], (dir / "review-2.mcap").string());
+  EXPECT_EQ(status.path, status.files[1]);
+  EXPECT_EQ(status.dropped, 0u);
+  EXPECT_EQ(status.annotations, 1u);
+  EXPECT_GT(status.ticks, 1000u);
+  EXPECT_GT(status.duration_s, 1.5);
+
+  const session::RecordingInfo info = session::readRecordingInfo(path);
+  EXPECT_TRUE(info.complete);
+  EXPECT_EQ(info.description.document, "Test.FCStd");
+  EXPECT_EQ(info.description.partNames(), (std::vector<std::string>{"Cylinder", "Block"}));
+  EXPECT_EQ(info.description.method, "two-finger");
+  EXPECT_EQ(info.description.rate_hz, 1000);
+  ASSERT_EQ(info.annotations.size(), 1u);
+  EXPECT_EQ(info.annotations[0].text, "the grip slips here");
+  EXPECT_EQ(info.annotations[0].part, "Cylinder");
+  EXPECT_NEAR(info.annotations[0].time_s, 1.5, 0.5);
+  EXPECT_TRUE(info.droppedKnown);
+  EXPECT_EQ(info.droppedRecords, 0u);
+  EXPECT_GT(info.topics.at(std::string(session::kTickTopic)), 1000u);
+  const session::RecordingInfo second = session::readRecordingInfo(status.files[1]);
+  EXPECT_TRUE(second.complete);
+  EXPECT_TRUE(second.annotations.empty());
+  EXPECT_GT(second.topics.at(std::string(session::kTickTopic)), 100u);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(HapticSession, AFileThatCannotBeCreatedLeavesHapticsRunningAndSaysWhy) {
+  Session session;
+  session.addPart("Cylinder", cylinderBrep(), Placement{{0, 0, 200}, {0, 0, 0, 1}}, geometry::MassSpec::mass(2));
+  session.useHandInput(0.5);
+  session.recordTo("/proc/no/such/dir/x.mcap", "");
+  session.start(1000, false);
+  EXPECT_TRUE(session.running());
+  const RecordingStatus status = session.recordingStatus();
+  EXPECT_FALSE(status.recording);
+  EXPECT_NE(status.error.find("cannot record to /proc/no/such/dir/x.mcap"), std::string::npos) << status.error;
+  EXPECT_THROW(session.annotate("no file"), std::logic_error);
+  session.stop();
 }
 
 }  // namespace
