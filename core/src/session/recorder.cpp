@@ -10,6 +10,7 @@
 #include "hapticgrasp/geometry/part_model.hpp"
 #include "hapticgrasp/servo/servo_loop.hpp"
 #include "hapticgrasp/session/foxglove_messages.hpp"
+#include "hapticgrasp/session/model_swap_message.hpp"
 #include "hapticgrasp/session/recording.hpp"
 #include "hapticgrasp/session/tick_message.hpp"
 
@@ -27,7 +28,7 @@ std::uint64_t monotonicNs() {
   return static_cast<std::uint64_t>(ts.tv_sec) * 1'000'000'000u + static_cast<std::uint64_t>(ts.tv_nsec);
 }
 
-enum Channel { kTick, kEvent, kNote, kFrame, kPartScene, kHandScene };
+enum Channel { kTick, kEvent, kNote, kFrame, kPartScene, kHandScene, kModel };
 
 std::size_t ringCapacity(double rate_hz, double seconds) {
   return static_cast<std::size_t>(std::ceil(std::clamp(rate_hz, 50.0, 10000.0) * std::max(0.1, seconds)));
@@ -55,6 +56,7 @@ Recorder::Recorder(const std::filesystem::path& path, SessionDescription descrip
   writer_ = std::make_unique<McapWriter>(path_.string(), options_.mcap);
   names_ = description_.partNames();
   for (const RecordedPart& p : description_.parts) poses_.push_back(p.initialPose);
+  publicationsWritten_ = description_.scenePublications;
   writeHeader();
 }
 
@@ -81,6 +83,8 @@ void Recorder::writeHeader() {
   frameChannel_ = writer_->addChannel(frames, kFrameTopic, "protobuf");
   partChannel_ = writer_->addChannel(scene, kPartSceneTopic, "protobuf");
   handChannel_ = writer_->addChannel(scene, kHandSceneTopic, "protobuf");
+  const std::uint16_t swap = writer_->addSchema(std::string(kModelSwapSchemaName), "protobuf", modelSwapSchema());
+  modelChannel_ = writer_->addChannel(swap, kModelTopic, "protobuf");
   writer_->flush();
 }
 
@@ -146,6 +150,7 @@ void Recorder::run() noexcept {
       const bool stopping = stop_.load(std::memory_order_acquire);
       int n = 0;
       while (n < 4096 && ring_->pop(record)) {
+        writeModelSwaps(record);
         writeTick(record);
         ++n;
       }
@@ -182,6 +187,37 @@ void Recorder::writeTick(const servo::TickRecord& r) {
     writeViewer(r, t);
   ticks_.fetch_add(1, std::memory_order_relaxed);
   duration_s_.store(r.time_s, std::memory_order_relaxed);
+}
+
+// The models the scene published before this tick began and after those already written:
+// each part's current model (a later swap of the same part may already show; replay then
+// publishes it a little early, which the part's stand-in box made harmless). When the
+// scene's log has wrapped past what was written, every part is written.
+void Recorder::writeModelSwaps(const servo::TickRecord& r) {
+  if (r.scenePublications <= publicationsWritten_) return;
+  const std::uint64_t t = logTime(r.time_s);
+  for (; publicationsWritten_ < r.scenePublications; ++publicationsWritten_) {
+    const int part = scene_->publishedPart(publicationsWritten_);
+    if (part >= 0) {
+      writeModelSwap(publicationsWritten_, part, t);
+      continue;
+    }
+    for (std::size_t i = 0; i < scene_->size(); ++i) writeModelSwap(publicationsWritten_, static_cast<int>(i), t);
+    publicationsWritten_ = r.scenePublications;
+    return;
+  }
+}
+
+void Recorder::writeModelSwap(std::uint64_t publication, int part, std::uint64_t t) {
+  const grasp::ScenePart& models = scene_->part(static_cast<std::size_t>(part));
+  ModelSwap swap{publication, part, describePart(models, names_[static_cast<std::size_t>(part)])};
+  swap.model.initialPose = description_.parts[static_cast<std::size_t>(part)].initialPose;
+  encodeModelSwap(swap, buffer_);
+  writer_->write(modelChannel_, sequence_[kModel]++, t, t, buffer_);
+  if (!modelsWritten_ || !models.model) return;
+  const PartMesh mesh = partMesh(*models.model, names_[static_cast<std::size_t>(part)], options_.meshDeflection_m);
+  encodePartModels(std::span<const PartMesh>(&mesh, 1), t, buffer_);  // replaces the viewers' stand-in box
+  writer_->write(partChannel_, sequence_[kPartScene]++, t, t, buffer_);
 }
 
 void Recorder::writeEvents(const servo::TickRecord& r, std::uint64_t t) {

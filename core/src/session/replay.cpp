@@ -10,6 +10,7 @@
 #include "hapticgrasp/geometry/backend.hpp"
 #include "hapticgrasp/geometry/part_model.hpp"
 #include "hapticgrasp/session/mcap_reader.hpp"
+#include "hapticgrasp/session/model_swap_message.hpp"
 #include "hapticgrasp/session/recorder.hpp"
 #include "hapticgrasp/session/recording.hpp"
 #include "hapticgrasp/session/tick_message.hpp"
@@ -121,9 +122,17 @@ ReplayCheck replay(const std::string& path,
   std::optional<SessionDescription> description;
   std::shared_ptr<RecordedDevice> device;
   std::unique_ptr<servo::ServoLoop> loop;
-  std::uint16_t tickChannel = 0;
+  std::uint16_t tickChannel = 0, modelChannel = 0;
   servo::TickRecord record;
   servo::ServoSnapshot snapshot;
+  grasp::ScenePtr scene;
+  // Models published during the session, each applied before the first tick that saw it.
+  struct Pending {
+    std::uint64_t publication;
+    int part;
+    grasp::ScenePart models;
+  };
+  std::vector<Pending> pending;
 
   const auto setUp = [&] {
     description = readDescription(reader);
@@ -136,19 +145,37 @@ ReplayCheck replay(const std::string& path,
     config.realtime = false;
     config.watchdogRamp_s = description->watchdogRamp_s;
     config.passivityController = description->passivityController;
-    loop = std::make_unique<servo::ServoLoop>(device, rebuildEngine(*description, rebuildScene(*description)), config);
-    for (const auto& [id, channel] : reader.channels())
+    scene = rebuildScene(*description);
+    loop = std::make_unique<servo::ServoLoop>(device, rebuildEngine(*description, scene), config);
+    for (const auto& [id, channel] : reader.channels()) {
       if (channel.topic == kTickTopic) tickChannel = id;
+      if (channel.topic == kModelTopic) modelChannel = id;
+    }
+  };
+  const auto publishSeen = [&](const servo::TickRecord& r) {
+    auto seen = std::stable_partition(pending.begin(), pending.end(),
+                                      [&](const Pending& p) { return p.publication < r.scenePublications; });
+    for (auto it = pending.begin(); it != seen; ++it) scene->publish(static_cast<std::size_t>(it->part), std::move(it->models));
+    pending.erase(pending.begin(), seen);
   };
 
   const McapSummary summary = reader.scan(
       [&](const McapMessageView& m) {
         if (!loop) setUp();
+        if (m.channel == modelChannel && modelChannel != 0) {
+          ModelSwap swap = decodeModelSwap(m.data);
+          if (swap.part < 0 || static_cast<std::size_t>(swap.part) >= scene->size())
+            throw SessionError("model swap for part " + std::to_string(swap.part) + " of " +
+                               std::to_string(scene->size()));
+          pending.push_back({swap.publication, swap.part, rebuildPart(swap.model)});
+          return;
+        }
         if (m.channel != tickChannel) return;
         if (!decodeTick(m.data, record)) {
           check.warnings.push_back("tick at " + std::to_string(m.logTime_ns) + " ns does not decode; replay stops");
           return;
         }
+        publishSeen(record);
         stepOne(*loop, *device, record, snapshot, check);
         if (onTick) onTick(record, snapshot);
       },

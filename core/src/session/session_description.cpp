@@ -1,6 +1,9 @@
 #include "hapticgrasp/session/session_description.hpp"
 
+#include <BRepTools.hxx>
 #include <BinTools.hxx>
+#include <Standard_Failure.hxx>
+#include <TopoDS_Shape.hxx>
 
 #include <chrono>
 #include <cmath>
@@ -184,7 +187,8 @@ json partJson(const RecordedPart& p) {
           {"mass", {{"volume_m3", num(p.mass.volume_m3)}, {"mass_kg", num(p.mass.mass_kg)}, {"centre_m", vec(p.mass.centre_m)},
                     {"inertia_kgm2", mat(p.mass.inertia_kgm2)}}},
           {"initial_pose", poseJson(p.initialPose)},
-          {"content_hash", p.contentHash}};
+          {"content_hash", p.contentHash},
+          {"faces", p.faces}};
 }
 RecordedPart partFrom(const json& j) {
   RecordedPart p;
@@ -203,6 +207,7 @@ RecordedPart partFrom(const json& j) {
   p.mass.inertia_kgm2 = toMat(m, "inertia_kgm2");
   p.initialPose = poseFrom(field(j, "initial_pose"));
   p.contentHash = field(j, "content_hash").get<std::string>();
+  p.faces = j.contains("faces") ? static_cast<int>(number(j, "faces")) : 0;  // recordings before faces: unknown
   return p;
 }
 
@@ -231,7 +236,8 @@ std::string toJson(const SessionDescription& d) {
                   {"device", deviceJson(d.device)},
                   {"two_finger", twoFingerJson(d.twoFinger)},
                   {"multi_finger", multiFingerJson(d.multiFinger)},
-                  {"parts", parts}};
+                  {"parts", parts},
+                  {"scene_publications", d.scenePublications}};
   return j.dump();
 }
 
@@ -256,6 +262,7 @@ SessionDescription sessionFromJson(std::string_view text) {
     const json& parts = field(j, "parts");
     if (!parts.is_array()) throw SessionError("session metadata: 'parts' is not a list");
     for (const json& p : parts) d.parts.push_back(partFrom(p));
+    if (j.contains("scene_publications")) d.scenePublications = field(j, "scene_publications").get<std::uint64_t>();
     return d;
   } catch (const json::exception& e) {  // a field of the wrong type
     throw SessionError(std::string("session metadata: ") + e.what());
@@ -267,26 +274,57 @@ std::vector<RecordedPart> describeParts(const grasp::Scene& scene) {
   parts.reserve(scene.size());
   for (std::size_t i = 0; i < scene.size(); ++i) {
     const grasp::ScenePart& s = scene.part(i);
-    RecordedPart p;
-    p.name = s.model ? s.model->name() : "part" + std::to_string(i);
-    p.coarse = s.coarse || !s.model;
-    p.backend = s.penetration ? std::string(s.penetration->name()) : "box";
-    p.bounds = s.bounds;
-    p.mass = s.mass;
-    p.initialPose = s.initialPose;
-    if (s.model) {
-      // Binary BREP: exact to the bit (text BREP rounds to 15 digits), so replay rebuilds
-      // the very same surfaces. FreeCAD reads it with Part.Shape().importBinary().
-      std::ostringstream out(std::ios::binary);
-      BinTools::Write(s.model->shape(), out);
-      p.brep = std::move(out).str();
-      p.unit = s.model->metresPerUnit() == 1.0 ? geometry::LengthUnit::Metre : geometry::LengthUnit::Millimetre;
-      p.contentHash = contentHash(p.brep);
-      p.attachment = "parts/" + p.contentHash + ".brep";
-    }
-    parts.push_back(std::move(p));
+    parts.push_back(describePart(s, s.model ? s.model->name() : "part" + std::to_string(i)));
   }
   return parts;
+}
+
+RecordedPart describePart(const grasp::ScenePart& s, std::string name) {
+  RecordedPart p;
+  p.name = std::move(name);
+  p.coarse = s.coarse || !s.model;
+  p.backend = s.penetration ? std::string(s.penetration->name()) : "box";
+  p.bounds = s.bounds;
+  p.mass = s.mass;
+  p.initialPose = s.initialPose;
+  if (s.model) {
+    // Binary BREP: exact to the bit (text BREP rounds to 15 digits), so replay rebuilds
+    // the very same surfaces. FreeCAD reads it with Part.Shape().importBinary().
+    std::ostringstream out(std::ios::binary);
+    BinTools::Write(s.model->shape(), out);
+    p.brep = std::move(out).str();
+    p.unit = s.model->metresPerUnit() == 1.0 ? geometry::LengthUnit::Metre : geometry::LengthUnit::Millimetre;
+    p.contentHash = contentHash(p.brep);
+    p.attachment = "parts/" + p.contentHash + ".brep";
+    p.faces = s.model->faces().Extent();
+  }
+  return p;
+}
+
+std::string brepAsText(std::string_view binaryBrep) {
+  TopoDS_Shape shape;
+  try {
+    std::istringstream in(std::string(binaryBrep), std::ios::binary);
+    BinTools::Read(shape, in);
+  } catch (const Standard_Failure& e) {
+    throw SessionError(std::string("recorded shape: not a binary BREP (") + e.GetMessageString() + ")");
+  }
+  if (shape.IsNull()) throw SessionError("recorded shape: not a binary BREP");
+  std::ostringstream out;
+  BRepTools::Write(shape, out, /*theWithTriangles=*/false, /*theWithNormals=*/false, TopTools_FormatVersion_CURRENT);
+  return std::move(out).str();
+}
+
+std::string partToJson(const RecordedPart& part) { return partJson(part).dump(); }
+
+RecordedPart partFromJson(std::string_view text) {
+  const json j = json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded() || !j.is_object()) throw SessionError("part description: not a JSON object");
+  try {
+    return partFrom(j);
+  } catch (const json::exception& e) {
+    throw SessionError(std::string("part description: ") + e.what());
+  }
 }
 
 std::string contentHash(std::string_view text) {

@@ -284,6 +284,7 @@ session::SessionDescription describe(const ServoBenchOptions& o, const BenchSetu
   d.fingertips = fingers;
   d.rate_hz = o.rate_hz;
   d.device = setup.device->spec();
+  d.scenePublications = setup.scene->publications();  // before describing: a swap meanwhile is recorded again
   d.parts = session::describeParts(*setup.scene);
   return d;
 }

@@ -674,8 +674,8 @@ std::string Session::partName(std::size_t i) const {
 }
 
 // Everything replay needs to rebuild this loop. Scene mode: the parts whose model is not
-// built yet are recorded coarse, by their box (no BREP); the shapes arrive later and
-// recording their swaps is future work.
+// built yet are recorded coarse, by their box (no BREP); their own models, published as
+// the builds finish, are recorded as model swaps (the recorder follows the scene).
 session::SessionDescription Session::describeSession(const grasp::ScenePtr& scene) const {
   session::SessionDescription d;
   d.document = recordDocument_;
@@ -690,6 +690,7 @@ session::SessionDescription Session::describeSession(const grasp::ScenePtr& scen
   d.device = device_->spec();
   d.twoFinger = parameters_;
   d.multiFinger = multiFingerParams();
+  d.scenePublications = scene->publications();  // before describing: a swap meanwhile is recorded again
   d.parts = session::describeParts(*scene);
   for (std::size_t i = 0; i < d.parts.size(); ++i) d.parts[i].name = partName(i);  // stand-ins have no model name
   return d;
@@ -783,15 +784,20 @@ std::string Session::partUnderHand(const servo::ServoSnapshot& s) const {
   return nearest;
 }
 
-void Session::annotate(const std::string& text) {
-  if (!recorder_) throw std::logic_error("not recording: recordTo() before start()");
-  double time_s = 0;
-  std::string part;
+Session::NoteMark Session::markNote() {
+  NoteMark mark;
   if (loop_ && loop_->read(*snap_)) {  // the current loop's time: the recorder's clock
-    time_s = snap_->time_s;
-    part = partUnderHand(*snap_);
+    mark.time_s = snap_->time_s;
+    mark.part = partUnderHand(*snap_);
   }
-  recorder_->annotate(time_s, text, part);
+  return mark;
+}
+
+void Session::annotate(const std::string& text) { annotate(text, markNote()); }
+
+void Session::annotate(const std::string& text, const NoteMark& mark) {
+  if (!recorder_) throw std::logic_error("not recording: recordTo() before start()");
+  recorder_->annotate(mark.time_s, text, mark.part);
 }
 
 }  // namespace hg::freecad

@@ -294,9 +294,16 @@ class Session {
   // `document` naming the FreeCAD document in the recording. A file that cannot be created
   // does not stop the session: recordingStatus().error says why.
   void recordTo(const std::string& path, const std::string& document);
-  // A reviewer's note at the loop's latest snapshot time, about the part under the hand.
+  // A reviewer's note at the loop's latest snapshot time, about the part under the hand;
+  // or at a mark taken earlier (the moment the reviewer pressed N, before typing the note).
   // Throws std::logic_error when not recording.
+  struct NoteMark {
+    double time_s = 0;
+    std::string part;
+  };
+  NoteMark markNote();
   void annotate(const std::string& text);
+  void annotate(const std::string& text, const NoteMark& mark);
   RecordingStatus recordingStatus() const;
 
   SessionSnapshot snapshot();

@@ -281,7 +281,11 @@ TEST(HapticSession, RecordsTheSessionWithItsPartsAndANote) {
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
   const SessionSnapshot snap = session.snapshot();
   EXPECT_EQ(snap.state, "GRASP");
-  session.annotate("the grip slips here");
+  // The note is stamped when N is pressed, not when the reviewer has typed it.
+  const Session::NoteMark mark = session.markNote();
+  EXPECT_EQ(mark.part, "Cylinder");
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  session.annotate("the grip slips here", mark);
   EXPECT_TRUE(session.recordingStatus().recording);
   session.restart(snap.placements);
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
@@ -310,6 +314,8 @@ TEST(HapticSession, RecordsTheSessionWithItsPartsAndANote) {
   EXPECT_EQ(info.annotations[0].text, "the grip slips here");
   EXPECT_EQ(info.annotations[0].part, "Cylinder");
   EXPECT_NEAR(info.annotations[0].time_s, 1.5, 0.5);
+  // At the mark (within the first tick's offset, read times count from it), not 200 ms later.
+  EXPECT_NEAR(info.annotations[0].time_s, mark.time_s, 1e-3);
   EXPECT_TRUE(info.droppedKnown);
   EXPECT_EQ(info.droppedRecords, 0u);
   EXPECT_GT(info.topics.at(std::string(session::kTickTopic)), 1000u);

@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "alloc_counter.hpp"
+#include "session/stepped_session.hpp"
 #include "hapticgrasp/servo/servo_bench.hpp"
 #include "hapticgrasp/servo/scripted_hand_device.hpp"
 #include "hapticgrasp/servo/servo_loop.hpp"
@@ -25,57 +26,10 @@ namespace {
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 
-fs::path tempDir() {
-  const fs::path dir = fs::temp_directory_path() / ("hg-recorder-" + std::to_string(getpid()));
-  fs::create_directories(dir);
-  return dir;
-}
+using test::describeBench;
+using test::SteppedLoop;
 
-SessionDescription describeBench(const grasp::Scene& scene, const device::DeviceSpec& spec, double rate_hz) {
-  SessionDescription d;
-  d.software = "hapticgrasp test";
-  d.build = softwareBuild();
-  d.rate_hz = rate_hz;
-  d.device = spec;
-  d.parts = describeParts(scene);
-  return d;
-}
-
-// The bench's scripted hand at the time step() is given (no thread, deterministic).
-class ClockedHand final : public device::Device {
- public:
-  const device::DeviceSpec& spec() const noexcept override { return spec_; }
-  bool read(device::DeviceSample& s) noexcept override {
-    s.hand = script_.at(now_s);
-    return true;
-  }
-  void write(const device::DeviceCommand&) noexcept override {}
-  double now_s = 0;
-
- private:
-  grasp::HandScript script_ = servo::benchScript();
-  device::DeviceSpec spec_ = servo::ScriptedHandDevice::defaultSpec();
-};
-
-// The loop stepped at 2 kHz on the clocked hand, without a thread (deterministic).
-struct SteppedLoop {
-  std::shared_ptr<ClockedHand> device = std::make_shared<ClockedHand>();
-  grasp::ScenePtr scene = servo::benchScene();
-  servo::ServoLoop loop{device, scene, {}, [] {
-                          servo::ServoConfig c;
-                          c.realtime = false;
-                          return c;
-                        }()};
-  SessionDescription description() const { return describeBench(*scene, device->spec(), 2000); }
-  // Ticks [from, to); every `pauseEvery` ticks the writer gets a few milliseconds.
-  void run(int from, int to, int pauseEvery = 0) {
-    for (int k = from; k < to; ++k) {
-      device->now_s = k * 0.0005;
-      loop.step(k * 0.0005, k ? 0.0005 : 0.0);
-      if (pauseEvery && k % pauseEvery == 0) std::this_thread::sleep_for(5ms);
-    }
-  }
-};
+fs::path tempDir() { return test::tempDir("recorder"); }
 
 TEST(Recorder, KeepsEveryTickOfTheRealThreadAndAllocatesNothingOnIt) {
   const fs::path file = tempDir() / "real.mcap";

@@ -1,6 +1,7 @@
 // Replay re-simulates a recording through the same engine and stages: on the build that
-// recorded it the result is bit-identical, for both grasp methods and through watchdog
-// faults; a changed recording is caught.
+// recorded it the result is bit-identical, for both grasp methods, through watchdog faults
+// and through the model swaps of a scene built behind the servo; a changed recording is
+// caught.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -12,8 +13,11 @@
 #include "hapticgrasp/geometry/sample_parts.hpp"
 #include "hapticgrasp/servo/servo_bench.hpp"
 #include "hapticgrasp/session/mcap_reader.hpp"
+#include "hapticgrasp/session/model_swap_message.hpp"
 #include "hapticgrasp/session/recording.hpp"
+#include "hapticgrasp/session/recorder.hpp"
 #include "hapticgrasp/session/replay.hpp"
+#include "session/stepped_session.hpp"
 
 namespace hg::session {
 namespace {
@@ -73,6 +77,21 @@ TEST(Replay, RebuildsTheRecordedSceneFromTheAttachedShapes) {
   EXPECT_EQ(scene->part(0).model->faces().Extent(), geometry::PartModel::fromFile(loft.file, loft.unit)->faces().Extent());
   EXPECT_EQ(std::string(scene->part(0).penetration->name()), d.parts[0].backend);
   EXPECT_EQ(scene->part(0).mass.mass_kg, d.parts[0].mass.mass_kg);
+}
+
+// The swap is recorded once and replayed at its tick (the stand-in alone would differ).
+TEST(Replay, PublishesTheRecordedModelSwapsAtTheirTicks) {
+  const std::string file = (test::tempDir("replay") / "swapped.mcap").string();
+  test::recordSwappedSession(file);
+  const RecordingInfo info = readRecordingInfo(file);
+  EXPECT_TRUE(info.description.parts[0].coarse);
+  EXPECT_EQ(info.topics.at(std::string(kModelTopic)), 1u);
+  bool lifted = false;
+  const ReplayCheck c = replay(file, [&](const servo::TickRecord& r, const servo::ServoSnapshot&) {
+    lifted |= r.state == grasp::GraspState::Manipulate;
+  });
+  expectIdentical(c);
+  EXPECT_TRUE(lifted);
 }
 
 TEST(Replay, AFileThatIsNotARecordingGetsAClearError) {

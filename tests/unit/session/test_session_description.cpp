@@ -3,7 +3,15 @@
 // description says which field is wrong.
 #include <gtest/gtest.h>
 
+#include <BRepGProp.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Builder.hxx>
+#include <BinTools.hxx>
+#include <GProp_GProps.hxx>
+#include <TopExp_Explorer.hxx>
+
 #include <cstring>
+#include <sstream>
 
 #include "hapticgrasp/servo/servo_bench.hpp"
 #include "hapticgrasp/session/session_description.hpp"
@@ -73,6 +81,29 @@ TEST(SessionDescription, PartsCarryTheirExactShapeAndAStableHash) {
   EXPECT_EQ(parts[0].attachment, "parts/" + parts[0].contentHash + ".brep");
   EXPECT_EQ(describeParts(*servo::benchScene())[0].contentHash, parts[0].contentHash);  // the same shape, the same hash
   EXPECT_NE(contentHash("a"), contentHash("b"));
+}
+
+// FreeCAD reads the text; the text is the same solid (faces, volume to 1e-9).
+TEST(SessionDescription, ARecordedShapeReadsBackAsTextBrep) {
+  const RecordedPart part = describeParts(*servo::benchScene())[0];
+  std::istringstream in(brepAsText(part.brep));
+  TopoDS_Shape text;
+  BRep_Builder builder;
+  BRepTools::Read(text, in, builder);
+  ASSERT_FALSE(text.IsNull());
+  TopoDS_Shape binary;
+  std::istringstream bin(part.brep, std::ios::binary);
+  BinTools::Read(binary, bin);
+  int faces = 0;
+  for (TopExp_Explorer e(text, TopAbs_FACE); e.More(); e.Next()) ++faces;
+  EXPECT_EQ(faces, part.faces);
+  GProp_GProps a, b;
+  BRepGProp::VolumeProperties(text, a);
+  BRepGProp::VolumeProperties(binary, b);
+  EXPECT_GT(b.Mass(), 0.0);
+  EXPECT_NEAR(a.Mass(), b.Mass(), 1e-9 * b.Mass());
+  EXPECT_THROW(brepAsText("not a shape"), SessionError);
+  EXPECT_THROW(brepAsText(""), SessionError);
 }
 
 TEST(SessionDescription, ADamagedDescriptionNamesWhatIsWrong) {

@@ -11,6 +11,9 @@
 //                             at viewerRate_hz; every part at the start and when one stops
 //   /scene/parts              foxglove.SceneUpdate: each part's tessellated shape, once
 //   /scene/hand               foxglove.SceneUpdate: fingertips, force arrows, the state, at viewerRate_hz
+//   /hapticgrasp/models       hapticgrasp.ModelSwap: a part's models published during the
+//                             session (model_swap_message.hpp), written before the first tick
+//                             that saw them, so that replay can publish them at the same tick
 // plus the session's description (Metadata kSessionMetadata) and each distinct shape's
 // BREP (attachments), so that a recording is self-contained.
 //
@@ -95,6 +98,8 @@ class Recorder {
   void trackPoses(const servo::TickRecord& record, std::uint64_t time_ns);
   void writeViewer(const servo::TickRecord& record, std::uint64_t time_ns);
   void writePartModels(std::uint64_t time_ns);
+  void writeModelSwaps(const servo::TickRecord& record);
+  void writeModelSwap(std::uint64_t publication, int part, std::uint64_t time_ns);
   void writeNotes();
   std::uint64_t logTime(double loopTime_s) const noexcept;
   void fail(const std::string& why) noexcept;
@@ -111,8 +116,9 @@ class Recorder {
 
   // Writer-thread data.
   std::uint16_t tickChannel_ = 0, eventChannel_ = 0, noteChannel_ = 0, frameChannel_ = 0, partChannel_ = 0,
-                handChannel_ = 0;
+                handChannel_ = 0, modelChannel_ = 0;
   std::uint32_t sequence_[8] = {};
+  std::uint64_t publicationsWritten_ = 0;  // the scene's publications recorded so far
   std::string buffer_;
   std::vector<std::string> names_;
   std::vector<grasp::PartPose> poses_;

@@ -48,7 +48,9 @@ struct RecordedPart {
   geometry::Aabb bounds;           // object frame, metres
   geometry::MassProperties mass;
   grasp::PartPose initialPose;
-  std::string contentHash;         // FNV-1a of the BREP text, hex: tells changed parts apart
+  std::string contentHash;         // FNV-1a of the binary BREP, hex: one attachment per distinct shape
+  int faces = 0;                   // the model's face count (0 for a stand-in): with the volume and
+                                   // centre of gravity, what tells a changed part (session review)
 };
 
 struct SessionDescription {
@@ -65,6 +67,9 @@ struct SessionDescription {
   grasp::GraspParameters twoFinger;
   grasp::multi_finger::MultiFingerSceneParams multiFinger;
   std::vector<RecordedPart> parts;
+  // The scene's model publications (Scene::publications()) made before `parts` was taken:
+  // the ones after it are recorded as model swaps (session/model_swap_message.hpp).
+  std::uint64_t scenePublications = 0;
   std::vector<std::string> partNames() const;
 };
 
@@ -72,9 +77,21 @@ std::string toJson(const SessionDescription& description);
 // Throws SessionError naming the field that is missing or wrong.
 SessionDescription sessionFromJson(std::string_view json);
 
-// The parts of `scene` as they stand now (BREP text from each model's shape; a stand-in
-// without a model is recorded coarse, by its box).
+// The parts of `scene` as they stand now (binary BREP from each model's shape; a stand-in
+// without a model is recorded coarse, by its box). Name: the model's, else "part<i>".
 std::vector<RecordedPart> describeParts(const grasp::Scene& scene);
+RecordedPart describePart(const grasp::ScenePart& part, std::string name);
+
+// One part as the description's JSON has it (without its BREP); partFromJson throws
+// SessionError naming what is missing.
+std::string partToJson(const RecordedPart& part);
+RecordedPart partFromJson(std::string_view json);
+
+// A recorded binary BREP as OCCT's text BREP (geometry only, no triangulation): what FreeCAD
+// 0.20 reads (Part.Shape.importBrepFromString); its importBinary reads only the pre-7.6
+// BinTools_ShapeSet layout, not what BinTools::Write writes now. Throws SessionError when
+// the bytes are not a shape.
+std::string brepAsText(std::string_view binaryBrep);
 
 // Hex FNV-1a 64 of `text`: identical shapes share one attachment.
 std::string contentHash(std::string_view text);
