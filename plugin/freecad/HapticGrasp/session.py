@@ -152,8 +152,13 @@ def placement_numbers(placement):
 
 
 def same_placement(a, b, tol=1e-9):
-    """Placements equal within tol (mm for the base; FreeCAD 0.20 has no Placement.isSame)."""
-    return (a.Base - b.Base).Length <= tol and a.Rotation.isSame(b.Rotation, tol)
+    """Placements equal within tol (mm for the base; FreeCAD 0.20 has no Placement.isSame).
+    The rotations are compared as copies: in FreeCAD 0.20 Rotation.isSame is not a const
+    method, so called on an object's obj.Placement.Rotation it writes the Placement back
+    and marks the document modified (measured: a review preview that compared placements
+    left the document "modified" with nothing changed)."""
+    ra, rb = App.Rotation(*a.Rotation.Q), App.Rotation(*b.Rotation.Q)
+    return (a.Base - b.Base).Length <= tol and ra.isSame(rb, tol)
 
 
 def to_placement(numbers):
@@ -957,13 +962,21 @@ class HapticSession:
         """The core's recording_status() dict, or None when this session does not record."""
         return None if self.recording is None else self.core.recording_status()
 
-    def annotate(self, text):
-        """A reviewer's note into the recording at the servo's current time, about the part
-        under the hand. False (nothing written) when not recording or the note is empty."""
+    def mark_note(self):
+        """Where a note begun now belongs: (servo time, part under the hand), or None when
+        not recording. Taken when the reviewer presses N, before the note is typed."""
+        if self.recording is None or not self.core.recording_status()["recording"]:
+            return None
+        return self.core.mark_note()
+
+    def annotate(self, text, mark=None):
+        """A reviewer's note into the recording at the servo's current time (or at `mark`,
+        from mark_note()), about the part under the hand. False (nothing written) when not
+        recording or the note is empty."""
         text = text.strip()
         if self.recording is None or not text or not self.core.recording_status()["recording"]:
             return False
-        self.core.annotate(text)
+        self.core.annotate(text, mark)
         return True
 
     def stop(self):

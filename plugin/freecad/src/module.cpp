@@ -14,6 +14,7 @@
 #include "hapticgrasp/geometry/model_cache.hpp"
 #include "hid_input.hpp"
 #include "hapticgrasp/session/recording.hpp"
+#include "hapticgrasp/session/review_track.hpp"
 #include "hapticgrasp/session/session_series.hpp"
 
 namespace py = pybind11;
@@ -408,9 +409,23 @@ PYBIND11_MODULE(_hapticgrasp, m) {
            "Before start(): record the session into `path` (MCAP; '' records nothing). restart() goes on in "
            "'<name>-2.mcap' beside it. A file that cannot be created leaves haptics running: "
            "recording_status()['error'] says why.")
-      .def("annotate", &freecad::Session::annotate, py::arg("text"),
-           "A reviewer's note at the servo's current time, about the part under the hand (the grasped one, "
-           "else the nearest within 30 mm of the grip centre, else none). Raises RuntimeError when not recording.")
+      .def(
+          "mark_note",
+          [](freecad::Session& s) {
+            const freecad::Session::NoteMark mark = s.markNote();
+            return py::make_tuple(mark.time_s, mark.part);
+          },
+          "(servo time s, part under the hand): where a note begun now belongs (annotate's mark).")
+      .def(
+          "annotate",
+          [](freecad::Session& s, const std::string& text, std::optional<std::pair<double, std::string>> mark) {
+            if (mark) s.annotate(text, {mark->first, mark->second});
+            else s.annotate(text);
+          },
+          py::arg("text"), py::arg("mark") = py::none(),
+          "A reviewer's note at the servo's current time (or at `mark`, from mark_note() when the reviewer "
+          "began it), about the part under the hand (the grasped one, else the nearest within 30 mm of the grip "
+          "centre, else none). Raises RuntimeError when not recording.")
       .def(
           "recording_status",
           [](const freecad::Session& s) {
@@ -502,6 +517,122 @@ PYBIND11_MODULE(_hapticgrasp, m) {
       py::arg("path"), py::arg("max_bins") = 2000,
       "A recording reduced for a report, as JSON text (session_series.hpp): force, motion and timing "
       "series in at most max_bins bins (each the largest value in it), every event, the manipulations.");
+
+  // The Review panel's recording (review.py): frames, pose keys, events, the last models.
+  using session::ReviewTrack;
+  const auto mmTuple = [](const Vec3& m) {
+    const auto mm = freecad::toMillimetres(m);
+    return py::make_tuple(mm[0], mm[1], mm[2]);
+  };
+  const auto nTuple = [](const Vec3& f) { return py::make_tuple(f.x(), f.y(), f.z()); };
+  py::class_<ReviewTrack, std::shared_ptr<ReviewTrack>>(m, "ReviewTrack",
+                                                      "A recording for the Review panel (open_review()).")
+      .def_property_readonly("info_json", [](const ReviewTrack& r) { return session::toJson(r.info); })
+      .def_property_readonly("duration_s", [](const ReviewTrack& r) { return r.frames.back().time_s; })
+      .def_property_readonly("frame_count", [](const ReviewTrack& r) { return r.frames.size(); })
+      .def("frame_times",
+           [](const ReviewTrack& r) {
+             std::vector<double> t;
+             t.reserve(r.frames.size());
+             for (const auto& f : r.frames) t.push_back(f.time_s);
+             return t;
+           })
+      .def("frame_at", &ReviewTrack::frameAt, py::arg("t"), "The last frame at or before t (s).")
+      .def(
+          "frame",
+          [mmTuple, nTuple](const ReviewTrack& r, std::size_t i) {
+            const session::ReviewFrame& f = r.frames.at(i);
+            py::dict d;
+            d["time_s"] = f.time_s;
+            d["state"] = grasp::toString(f.state);
+            d["fault"] = f.fault;
+            d["grasped"] = f.graspedPart;
+            d["hand"] = py::make_tuple(mmTuple(f.fingertip_m[0]), mmTuple(f.fingertip_m[1]), mmTuple(f.wrist_m));
+            d["forces"] = py::make_tuple(nTuple(f.force_N[0]), nTuple(f.force_N[1]));
+            py::list tips, tipForces;
+            for (int k = 0; k < f.fingertips; ++k) {
+              tips.append(mmTuple(f.fingertip_m[k]));
+              tipForces.append(nTuple(f.force_N[k]));
+            }
+            d["fingertips"] = tips;
+            d["fingertip_forces"] = tipForces;
+            d["grasp_force_n"] = f.grasp_N;
+            return d;
+          },
+          py::arg("i"),
+          "time_s, state, fault, grasped, hand (index, thumb, wrist; mm), forces (index, thumb; N, as sent), "
+          "fingertips (mm) and fingertip_forces (N) of every fingertip in use, grasp_force_n.")
+      .def_property_readonly(
+          "parts",
+          [mmTuple](const ReviewTrack& r) {
+            py::list parts;
+            const auto& recorded = r.info.description.parts;
+            for (std::size_t i = 0; i < recorded.size(); ++i) {
+              const session::RecordedPart& p = recorded[i];
+              const session::RecordedPart& last = r.models.at(i);
+              py::dict d;
+              d["name"] = p.name;
+              d["placement"] = toTuple(freecad::toPlacement(p.initialPose));
+              d["faces"] = last.faces;
+              d["volume_mm3"] = last.mass.volume_m3 * 1e9;
+              d["centre_mm"] = mmTuple(last.mass.centre_m);
+              d["bounds_mm"] = py::make_tuple(mmTuple(last.bounds.min), mmTuple(last.bounds.max));
+              d["backend"] = last.backend;
+              d["coarse"] = last.coarse;
+              d["has_shape"] = !last.brep.empty();
+              d["unit"] = last.unit == geometry::LengthUnit::Metre ? "m" : "mm";
+              parts.append(d);
+            }
+            return parts;
+          },
+          "Per recorded part: name, placement (initial), and of its last recorded model: faces, volume_mm3, "
+          "centre_mm (own frame), bounds_mm, backend, coarse, has_shape, unit (of its BREP).")
+      .def_property_readonly("moved_parts", &ReviewTrack::movedParts)
+      .def(
+          "placements_at",
+          [](const ReviewTrack& r, double t) {
+            py::dict out;
+            for (const int i : r.movedParts())
+              out[py::int_(i)] = toTuple(freecad::toPlacement(r.poseAt(static_cast<std::size_t>(i), t)));
+            return out;
+          },
+          py::arg("t"), "{part index: placement} of every part that moved, where it stood at time t (s).")
+      .def(
+          "part_brep",
+          [](const ReviewTrack& r, std::size_t i) -> py::object {
+            const session::RecordedPart& p = r.models.at(i);
+            if (p.brep.empty()) return py::none();
+            return py::bytes(session::brepAsText(p.brep));
+          },
+          py::arg("i"),
+          "Part i's last recorded shape as OCCT text BREP (own frame, in its unit; what FreeCAD's "
+          "importBrepFromString reads), or None; RuntimeError when the recorded bytes are not a shape.")
+      .def_property_readonly("events",
+                             [](const ReviewTrack& r) {
+                               py::list out;
+                               for (const auto& e : r.events) {
+                                 std::string text = e.text;
+                                 if (e.from != e.to)
+                                   text += (text.empty() ? "" : "; ") + std::string(grasp::toString(e.from)) + " -> " +
+                                           grasp::toString(e.to);
+                                 out.append(py::make_tuple(e.time_s, text, (e.events & servo::kWatchdogTrip) != 0));
+                               }
+                               return out;
+                             })
+      .def_property_readonly("annotations", [](const ReviewTrack& r) {
+        py::list out;
+        for (const auto& a : r.info.annotations) out.append(py::make_tuple(a.time_s, a.text, a.part));
+        return out;
+      });
+  m.def(
+      "open_review",
+      [](const std::string& path, double frameRate_hz) {
+        py::gil_scoped_release release;
+        return std::make_shared<ReviewTrack>(session::readReviewTrack(path, frameRate_hz));
+      },
+      py::arg("path"), py::arg("frame_rate_hz") = 60.0,
+      "Reads a recording for review (one pass; the GIL is released). RuntimeError for a file that is not a "
+      "recording; a truncated one opens with what it holds.");
 
   py::dict events;
   for (int bit = 0; bit < grasp::kEventCount; ++bit)
