@@ -1278,7 +1278,10 @@ class Recording(unittest.TestCase):
         self.assertRegex(os.path.basename(path), r"^\d{4}-\d\d-\d\d_\d\d-\d\d-\d\d\.mcap$")
         self.assertIn("recording to " + path, s.record_reports)
         self.assertIn("GRASP", run(s, 0.8))
-        self.assertTrue(s.annotate("  the box slips at its edge "))
+        mark = s.mark_note()   # N pressed while grasping; the note typed 0.4 s later, after the release
+        self.assertEqual(mark[1], "Box")
+        run(s, 1.2)
+        self.assertTrue(s.annotate("  the box slips at its edge ", mark))
         self.assertFalse(s.annotate("   "))   # an empty note is not written
         run(s, 1.5)
         s.stop()
@@ -1294,6 +1297,7 @@ class Recording(unittest.TestCase):
         self.assertEqual(info["parts"], ["Box"])
         self.assertEqual(info["document"], self.doc.FileName)
         self.assertEqual([(a["text"], a["part"]) for a in info["annotations"]], [("the box slips at its edge", "Box")])
+        self.assertAlmostEqual(info["annotations"][0]["time_s"], mark[0], delta=0.01)   # at the mark, not at 1.2 s
         # Nothing in the document: no undo entry, the box where it was.
         self.assertEqual(self.doc.UndoCount, 0)
         self.assertTrue(hs.same_placement(self.box.Placement, before))
@@ -1950,3 +1954,218 @@ class HidDeviceSession(unittest.TestCase):
             os.unlink(f.name)
         self.assertIn("fields[1]", str(caught.exception))
         self.assertEqual(s.core.device_name, "none")
+
+
+class Review(unittest.TestCase):
+    """A recorded session opened for review (review.Review, no GUI here): the parts' poses
+    at any time as the live session put them, the pose at the cursor applied in one undo
+    step, a part changed since the recording named, a recording opened with no document
+    (its attached shapes), a truncated recording read as far as it goes, and a file that is
+    not a recording refused with its name. The view-provider preview needs the GUI
+    (TestHapticGraspGui.ReviewPanelGui); here it must leave the document alone."""
+
+    @classmethod
+    def record(cls, folder, name):
+        """A saved document holding a 40 mm Part::Box, and a recorded session in which the
+        demo hand lifts it, carries it 100 mm along y and puts it down. Returns (document,
+        recording, the box's placement before, after); the live move is the document's one
+        undo step."""
+        doc = App.newDocument(name)
+        doc.UndoMode = 1
+        box = doc.addObject("Part::Box", "Box")
+        box.Length = box.Width = box.Height = 40
+        # Turned a quarter about x: a placement with a rotation, and the same bounding box (the
+        # demo hand closes along x on the box's faces).
+        box.Placement = App.Placement(App.Vector(10, 20, 40), App.Rotation(App.Vector(1, 0, 0), 90))
+        doc.recompute()
+        doc.saveAs(os.path.join(folder, name + ".FCStd"))
+        doc.clearUndos()
+        start = App.Placement(box.Placement)
+        s = hs.HapticSession(doc, scene=True)
+        try:
+            keys, frame = hs.demo_script(s.parts[0])
+            s.use_hand_script(keys, frame)
+            s.start(record=True)
+            run(s, 2.6)
+        finally:
+            s.stop()
+        assert s.moves == 1 and doc.UndoCount == 1, (s.moves, doc.UndoNames, s.messages)
+        return doc, s.recording, start, App.Placement(box.Placement)
+
+    @classmethod
+    def setUpClass(cls):
+        from HapticGrasp import review as hreview
+        cls.hreview = hreview
+        cls.dir = tempfile.mkdtemp()
+        doc, cls.path, cls.start, cls.end = cls.record(cls.dir, "ReviewBench")
+        cls.file = doc.FileName
+        doc.save()   # the box where the session put it
+        App.closeDocument(doc.Name)
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.dir, ignore_errors=True)
+
+    def setUp(self):
+        self.docs = []
+
+    def tearDown(self):
+        for doc in self.docs:
+            App.closeDocument(doc.Name)
+
+    def open_bench(self):
+        doc = App.openDocument(self.file)
+        doc.UndoMode = 1
+        self.docs.append(doc)
+        return doc, doc.getObject("Box")
+
+    def assertPlacement(self, got, expected, tol=1e-6):
+        self.assertTrue(hs.same_placement(got, expected, tol), "%s != %s" % (got, expected))
+
+    def test_the_recording_replays_where_the_live_session_put_the_box(self):
+        self.assertGreater((self.end.Base - self.start.Base).Length, 90.0)   # the session did move it
+        doc, box = self.open_bench()
+        self.assertEqual(self.hreview.reviews_folder(doc), os.path.dirname(self.path))
+        r = self.hreview.Review(self.path, doc)
+        self.assertEqual(r.recording_warnings, [])
+        self.assertEqual(r.warnings, [])
+        self.assertEqual([p["name"] for p in r.parts], ["Box"])
+        self.assertEqual(r.refs[0].obj, box)
+        self.assertEqual(r.moved, [0])
+        self.assertGreater(r.duration_s, 2.0)
+        # The parts at the end as the live session left them, at 0 where they started.
+        poses = r.poses_at(r.duration_s)
+        self.assertEqual(list(poses), [r.refs[0]])
+        self.assertPlacement(poses[r.refs[0]], self.end)
+        self.assertPlacement(r.poses_at(0.0)[r.refs[0]], self.start)
+        # Mid-carry: lifted above both (the script lifts 50 mm), held.
+        middle = r.placements_at(1.2)[0]
+        self.assertGreater(middle.Base.z, self.start.Base.z + 20.0)
+        frame = r.frame(1.2)
+        self.assertEqual((frame["state"], frame["grasped"], frame["fault"]), ("MANIPULATE", 0, False))
+        self.assertIsNotNone(r.grasped_rotation(1.2, frame))
+        self.assertEqual(len(frame["hand"]), 3)
+        self.assertGreater(frame["grasp_force_n"], 0.0)
+        self.assertEqual(r.frame(0.0)["state"], "FREE")
+        # The timeline: frames increase, stepping moves one frame, the events name the lift.
+        times = r.frame_times
+        self.assertEqual(len(times), r.track.frame_count)
+        self.assertTrue(all(a < b for a, b in zip(times, times[1:])))
+        self.assertGreater(r.step(times[3], 1), times[3])
+        self.assertEqual(r.step(times[3], 1), times[4])
+        self.assertEqual(r.step(times[3], -1), times[2])
+        self.assertEqual(r.step(0.5 * (times[3] + times[4]), -1), times[3])
+        self.assertEqual(r.step(times[-1], 1), times[-1])
+        items = r.timeline()
+        self.assertTrue(any("MANIPULATE" in text for _t, text, _kind in items), items)
+        self.assertEqual([t for t, _text, _kind in items], sorted(t for t, _text, _kind in items))
+        # Reviewing writes nothing: no GUI here, so the preview moves nothing either.
+        self.assertEqual(r.preview(1.2), 0)
+        r.restore()
+        self.assertPlacement(box.Placement, self.end, 1e-12)
+        self.assertEqual(doc.UndoCount, 0)
+
+    def test_apply_sets_the_pose_at_the_cursor_in_one_undo_step(self):
+        folder = tempfile.mkdtemp(dir=self.dir)
+        doc, path, start, end = self.record(folder, "ReviewApply")
+        self.docs.append(doc)
+        box = doc.getObject("Box")
+        doc.undo()   # the reviewer took the live move back
+        self.assertPlacement(box.Placement, start, 1e-12)
+        self.assertEqual(doc.UndoCount, 0)
+        r = self.hreview.Review(path, doc)
+        self.assertEqual(r.warnings, [])
+        self.assertEqual(r.apply(r.duration_s), ["Box"])
+        self.assertPlacement(box.Placement, end)
+        self.assertEqual(doc.UndoCount, 1)
+        self.assertEqual(doc.UndoNames, [self.hreview.APPLY_TRANSACTION])
+        self.assertEqual(r.apply(r.duration_s), [])   # already there: no second entry
+        self.assertEqual(doc.UndoCount, 1)
+        doc.undo()
+        self.assertPlacement(box.Placement, start, 1e-12)
+
+    def test_a_part_changed_since_the_recording_is_named_and_extra_parts_are_said(self):
+        doc, box = self.open_bench()
+        r = self.hreview.Review(self.path, doc)
+        self.assertEqual((r.warnings, r.changed), ([], []))
+        extra = doc.addObject("Part::Box", "Extra")
+        extra.Placement.Base = App.Vector(300, 0, 0)
+        doc.recompute()
+        self.assertEqual(r.match(doc), ["Extra: not in the recording, left where it is"])
+        self.assertEqual(r.changed, [])
+        box.Length = 50
+        doc.recompute()
+        warnings = r.match(doc)
+        self.assertEqual(r.changed, [0])
+        changed = [w for w in warnings if w.startswith("Box: changed since the recording")]
+        self.assertEqual(len(changed), 1, warnings)
+        self.assertIn("volume 80000 mm^3, recorded 64000 mm^3", changed[0])
+        # A changed part is still played back (its motion on the part as it is now).
+        self.assertPlacement(r.poses_at(r.duration_s)[r.refs[0]], self.end)
+        box.Length = 40
+        doc.removeObject("Extra")
+        doc.recompute()
+        self.assertEqual(r.match(doc), [])
+        # The same volume and faces, moved within its own frame: the centre of gravity tells.
+        doc.removeObject("Box")
+        feature = doc.addObject("Part::Feature", "Moved")
+        feature.Shape = Part.makeBox(40, 40, 40, App.Vector(0, 1, 0))
+        feature.Label = "Box"
+        feature.Placement = self.end
+        doc.recompute()
+        warnings = r.match(doc)
+        self.assertEqual(r.changed, [0], warnings)
+        self.assertIn("centre of gravity moved by 1 mm", warnings[0])
+
+    def test_a_renamed_part_is_matched_in_order_and_a_missing_one_is_said(self):
+        doc, box = self.open_bench()
+        box.Label = "Cube"
+        r = self.hreview.Review(self.path, doc)
+        self.assertEqual(r.refs[0].obj, box)
+        self.assertEqual(r.warnings, ["Box: not in the document by that name, matched to Cube (the same place in "
+                                      "the order)"])
+        doc.addObject("Part::Box", "Other").Placement.Base = App.Vector(300, 0, 0)
+        doc.recompute()
+        r.match(doc)   # two parts, none named Box: not paired by order
+        self.assertEqual(r.refs, [None])
+        self.assertEqual(r.missing, [0])
+        self.assertIn("Box: not in the document, not shown", r.warnings)
+        self.assertEqual(r.poses_at(r.duration_s), {})
+
+    def test_a_recording_opens_with_no_document_from_its_attached_shapes(self):
+        r = self.hreview.open_without_document(self.path)
+        self.docs.append(r.doc)
+        self.assertEqual(r.doc.Name, "Review_" + os.path.splitext(os.path.basename(self.path))[0].replace("-", "_"))
+        self.assertEqual(r.stand_ins, set())
+        objects = r.doc.Objects
+        self.assertEqual([(o.TypeId, o.Label) for o in objects], [("Part::Feature", "Box")])
+        self.assertAlmostEqual(objects[0].Shape.Volume, 40.0 ** 3, delta=1e-6 * 40.0 ** 3)
+        self.assertEqual(len(objects[0].Shape.Faces), 6)
+        self.assertPlacement(objects[0].Placement, self.start)
+        self.assertEqual(r.warnings, [])   # the same content: matched, unchanged
+        self.assertEqual(r.moved, [0])
+        self.assertPlacement(r.poses_at(r.duration_s)[r.refs[0]], self.end)
+        self.assertEqual(r.apply(r.duration_s), ["Box"])
+        self.assertPlacement(objects[0].Placement, self.end)
+
+    def test_a_truncated_recording_opens_with_what_it_holds(self):
+        full = self.hreview.Review(self.path)
+        cut = os.path.join(self.dir, "cut.mcap")
+        with open(self.path, "rb") as source, open(cut, "wb") as target:
+            data = source.read()
+            target.write(data[:len(data) // 2])
+        r = self.hreview.Review(cut)
+        self.assertLess(r.track.frame_count, full.track.frame_count)
+        self.assertGreater(r.track.frame_count, 0)
+        self.assertLess(r.duration_s, full.duration_s)
+        self.assertFalse(r.info["complete"])
+        self.assertTrue(r.recording_warnings, r.info)
+
+    def test_a_file_that_is_not_a_recording_is_refused_with_its_name(self):
+        path = os.path.join(self.dir, "notes.mcap")
+        with open(path, "w") as f:
+            f.write("not a recording\n")
+        with self.assertRaises(RuntimeError) as caught:
+            self.hreview.Review(path)
+        self.assertIn("notes.mcap cannot be reviewed: ", str(caught.exception))
+        self.assertGreater(len(str(caught.exception)), len(path + " cannot be reviewed: "))

@@ -710,6 +710,131 @@ class HapticGraspGui(unittest.TestCase):
         return search.getPaths().getLength()
 
 
+class ReviewPanelGui(unittest.TestCase):
+    """The Review panel in the real GUI: a session recorded on a saved document is played
+    back by moving the part's view provider only (its root SoTransform shows the recorded
+    pose; the document's Placement, undo stack and modified flag stay as they are), the hand
+    is drawn by the overlay, playback advances the cursor, an event in the list jumps to its
+    time, Apply is one undo step and the task dialog's Close button puts the view back where
+    the document has the part and removes the overlay."""
+
+    def setUp(self):
+        import tempfile
+        self.dir = tempfile.mkdtemp()
+
+    def tearDown(self):
+        import shutil
+        shutil.rmtree(self.dir, ignore_errors=True)
+
+    def _record(self):
+        """A saved document holding a cylinder that the demo hand lifts, carries and puts
+        down in a recorded session; the live move undone. Returns (doc, cylinder, path)."""
+        from PySide2 import QtWidgets
+        doc = App.newDocument("HapticGraspReview")
+        doc.UndoMode = 1
+        cylinder = doc.addObject("Part::Feature", "Cylinder")
+        shape = Part.Shape()
+        shape.importBrep(os.path.join(RESOURCES, "parts", "cylinder.brep"))
+        cylinder.Shape = shape
+        cylinder.Placement = App.Placement(App.Vector(400, 0, 300), App.Rotation(App.Vector(1, 0, 0), -90))
+        doc.recompute()
+        doc.saveAs(os.path.join(self.dir, "HapticGraspReview.FCStd"))
+        doc.clearUndos()
+        s = hs.HapticSession(doc, scene=True)
+        try:
+            keys, frame = hs.demo_script(s.parts[0])
+            s.use_hand_script(keys, frame)
+            s.start(record=True)
+            deadline = time.monotonic() + 10.0
+            while s.running and time.monotonic() < deadline and s.tick()["time_s"] < 2.6:
+                time.sleep(0.01)
+        finally:
+            s.stop()
+        self.assertEqual(s.moves, 1, s.messages)
+        doc.undo()   # the reviewer sees the document as it was
+        doc.recompute()
+        Gui.runCommand("Std_Save")   # as the user saves: App's save() leaves the GUI's Modified set
+        QtWidgets.QApplication.processEvents()
+        self.assertFalse(Gui.getDocument(doc.Name).Modified)
+        return doc, cylinder, s.recording
+
+    @staticmethod
+    def _shown_translation(obj):
+        """Where the 3D view shows obj: its view provider's root SoTransform (mm)."""
+        transform = obj.ViewObject.RootNode.getChild(0)
+        return App.Vector(*transform.translation.getValue().getValue())
+
+    def test_playback_moves_the_view_only_and_apply_is_one_undo_step(self):
+        from PySide2 import QtCore, QtWidgets
+        from HapticGrasp import review_panel
+        Gui.activateWorkbench("HapticGraspWorkbench")
+        self.assertIsNotNone(Gui.Command.get("HapticGrasp_Review"))
+        doc, cylinder, path = self._record()
+        before = App.Placement(cylinder.Placement)
+        with _ErrorLog() as log:
+            panel = review_panel.open_review(path, doc)
+            self.assertIs(review_panel.current(), panel)
+            self.assertTrue(Gui.Control.activeDialog())
+            review = panel.review
+            self.assertEqual(review.warnings, [])
+            self.assertEqual(review.moved, [0])
+            # Mid-carry: the view shows the recorded pose, the document is untouched.
+            panel.seek(1.2)
+            QtWidgets.QApplication.processEvents()
+            recorded = review.placements_at(1.2)[0]
+            self.assertGreater((recorded.Base - before.Base).Length, 20.0)
+            self.assertLess((self._shown_translation(cylinder) - recorded.Base).Length, 1e-3)
+            self.assertTrue(hs.same_placement(cylinder.Placement, before, 1e-12))
+            self.assertEqual((doc.UndoCount, Gui.getDocument(doc.Name).Modified), (0, False))
+            self.assertEqual(panel.state_label.text().split()[0], "MANIPULATE")
+            self.assertGreater(HapticGraspGui._overlay_nodes(), 0)
+            os.makedirs(os.path.dirname(SCREENSHOT), exist_ok=True)
+            Gui.ActiveDocument.ActiveView.viewFront()
+            Gui.SendMsgToActiveView("ViewFit")
+            Gui.ActiveDocument.ActiveView.saveImage(SCREENSHOT.replace(".png", "_review.png"), 640, 480)
+            panel.form.grab().save(SCREENSHOT.replace(".png", "_review_panel.png"))
+            # Playing at 4x from 0 advances the cursor by the wall time.
+            panel.seek(0.0)
+            panel.speed_combo.setCurrentIndex(review_panel.SPEEDS.index(4.0))
+            panel.play_button.click()
+            self.assertTrue(panel.playing)
+            start = time.monotonic()
+            while time.monotonic() - start < 0.5:
+                QtWidgets.QApplication.processEvents()
+                time.sleep(0.005)
+            panel.play_button.click()
+            self.assertFalse(panel.playing)
+            self.assertGreater(panel.t, 0.5)   # 4 x 0.5 s of wall time, less the GUI's delays
+            # An event in the list: clicking it puts the cursor at its time.
+            self.assertGreater(panel.events_list.count(), 0)
+            item = panel.events_list.item(panel.events_list.count() - 1)
+            panel._jump(item)
+            self.assertAlmostEqual(panel.t, item.data(QtCore.Qt.UserRole), places=9)
+            # Apply at the end: the document's part where the session put it, one undo step.
+            panel.seek(review.duration_s)
+            panel.apply_button.click()
+            end = review.placements_at(review.duration_s)[0]
+            self.assertTrue(hs.same_placement(cylinder.Placement, end, 1e-6))
+            self.assertEqual(doc.UndoNames, ["Apply review pose"])
+            # Back to the start, then Close: the view shows the document's placement again.
+            panel.seek(0.0)
+            self.assertGreater((self._shown_translation(cylinder) - cylinder.Placement.Base).Length, 20.0)
+            close = None
+            for box in Gui.getMainWindow().findChildren(QtWidgets.QDialogButtonBox):
+                button = box.button(QtWidgets.QDialogButtonBox.Close)
+                if button is not None and button.isVisible():
+                    close = button
+            self.assertIsNotNone(close, "no Close button in the task view")
+            close.click()
+            QtWidgets.QApplication.processEvents()
+            self.assertFalse(Gui.Control.activeDialog())
+            self.assertIsNone(review_panel.current())
+            self.assertLess((self._shown_translation(cylinder) - cylinder.Placement.Base).Length, 1e-3)   # Coin keeps floats
+            self.assertEqual(HapticGraspGui._overlay_nodes(), 0)
+        self.assertEqual(log.errors, [])
+        App.closeDocument(doc.Name)
+
+
 AS1 = os.path.join(os.environ.get("HG_TEST_DATA_DIR", ""), "as1-oc-214.stp")
 IMPORT_PREFERENCES = "User parameter:BaseApp/Preferences/Mod/Import"
 

@@ -221,17 +221,19 @@ class _HapticGraspController:
     @classmethod
     def add_note(cls):
         """Add note (the panel's button, N): asks for a short note and puts it in the
-        recording at the servo's time when the note is given, about the part under the hand."""
+        recording at the servo's time when N was pressed (not when the note is typed), about the part
+        under the hand then."""
         session = cls.session
         if session is None or session.recording is None or not session.running:
             return
+        mark = session.mark_note()   # the moment N was pressed, not when the note is typed
         from PySide import QtGui   # FreeCAD's shim
         text, ok = QtGui.QInputDialog.getText(Gui.getMainWindow(), Qt.translate("HapticGrasp", "Add note"),
                                               Qt.translate("HapticGrasp", "Note for the reviewer:"))
         if not ok or cls.session is not session or not session.running:
             return   # cancelled, or the session ended while the dialog was open
         try:
-            if session.annotate(text):
+            if session.annotate(text, mark):
                 App.Console.PrintMessage("HapticGrasp: note added: %s\n" % text.strip())
         except RuntimeError as e:
             App.Console.PrintError("HapticGrasp: %s\n" % e)
@@ -493,6 +495,26 @@ class _SplitSolidsCommand:
                                  % (", ".join(o.Label for o in selected), len(made)))
 
 
+class _ReviewCommand:
+    """Review a recording: asks for a session recording (*.mcap, starting in the active
+    document's recordings) and opens the Review panel to play it back on the active
+    document, or on a new document built from the recording's shapes when none is open.
+    Refused while a live session runs: both would move the parts and draw the hand."""
+
+    def GetResources(self):
+        return {"MenuText": QT_TRANSLATE_NOOP("HapticGrasp_Review", "Review a recording\u2026"),
+                "ToolTip": QT_TRANSLATE_NOOP("HapticGrasp_Review",
+                                             "Play a recorded session back on the document's parts, jump to its "
+                                             "events and notes, and apply the pose at any moment (one undo step)")}
+
+    def IsActive(self):
+        return True   # Activated() says why it cannot review (a live session, another panel)
+
+    def Activated(self):
+        from . import review_panel
+        review_panel.run_command(_HapticGraspController)
+
+
 _registered = False
 
 
@@ -503,5 +525,7 @@ def register():
         Gui.addCommand("HapticGrasp_Stop", _StopCommand())
         Gui.addCommand("HapticGrasp_MarkGraspable", _MarkGraspableCommand())
         Gui.addCommand("HapticGrasp_SplitSolids", _SplitSolidsCommand())
+        Gui.addCommand("HapticGrasp_Review", _ReviewCommand())
         _registered = True
-    return ["HapticGrasp_Start", "HapticGrasp_Stop", "HapticGrasp_MarkGraspable", "HapticGrasp_SplitSolids"]
+    return ["HapticGrasp_Start", "HapticGrasp_Stop", "HapticGrasp_MarkGraspable", "HapticGrasp_SplitSolids",
+            "HapticGrasp_Review"]
