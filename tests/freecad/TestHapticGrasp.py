@@ -1297,7 +1297,7 @@ class Recording(unittest.TestCase):
         self.assertEqual(info["parts"], ["Box"])
         self.assertEqual(info["document"], self.doc.FileName)
         self.assertEqual([(a["text"], a["part"]) for a in info["annotations"]], [("the box slips at its edge", "Box")])
-        self.assertAlmostEqual(info["annotations"][0]["time_s"], mark[0], delta=0.01)   # at the mark, not at 1.2 s
+        self.assertAlmostEqual(info["annotations"][0]["time_s"], mark[0], delta=0.05)   # at the mark, not at 1.2 s
         # Nothing in the document: no undo entry, the box where it was.
         self.assertEqual(self.doc.UndoCount, 0)
         self.assertTrue(hs.same_placement(self.box.Placement, before))

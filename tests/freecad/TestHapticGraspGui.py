@@ -835,6 +835,39 @@ class ReviewPanelGui(unittest.TestCase):
         App.closeDocument(doc.Name)
 
 
+    def test_the_review_command_opens_the_chosen_file_and_says_why_it_cannot(self):
+        """The command as the user runs it, the file dialog and the message box answered by
+        the test: a recording opens the panel; a file that is not one is named in an error
+        box and opens nothing."""
+        from PySide import QtGui   # the shim review_panel uses
+        from HapticGrasp import review_panel
+        doc, _cylinder, path = self._record()
+        bad = os.path.join(self.dir, "not-a-recording.mcap")
+        with open(bad, "w") as f:
+            f.write("hello\n")
+        errors = []
+        dialog, critical = QtGui.QFileDialog.getOpenFileName, QtGui.QMessageBox.critical
+        try:
+            QtGui.QMessageBox.critical = staticmethod(lambda _parent, _title, text: errors.append(text))
+            QtGui.QFileDialog.getOpenFileName = staticmethod(lambda *args: (bad, ""))
+            Gui.runCommand("HapticGrasp_Review")
+            self.assertFalse(Gui.Control.activeDialog())
+            self.assertEqual(len(errors), 1)
+            self.assertIn("not-a-recording.mcap cannot be reviewed: ", errors[0])
+            QtGui.QFileDialog.getOpenFileName = staticmethod(lambda *args: (path, ""))
+            Gui.runCommand("HapticGrasp_Review")
+            panel = review_panel.current()
+            self.assertIsNotNone(panel)
+            self.assertEqual(panel.review.path, path)
+            self.assertIs(panel.review.doc, doc)
+            self.assertIsNone(QtGui.QApplication.overrideCursor())   # the wait cursor is gone
+            panel.reject()
+        finally:
+            QtGui.QFileDialog.getOpenFileName, QtGui.QMessageBox.critical = dialog, critical
+        self.assertFalse(Gui.Control.activeDialog())
+        App.closeDocument(doc.Name)
+
+
 AS1 = os.path.join(os.environ.get("HG_TEST_DATA_DIR", ""), "as1-oc-214.stp")
 IMPORT_PREFERENCES = "User parameter:BaseApp/Preferences/Mod/Import"
 

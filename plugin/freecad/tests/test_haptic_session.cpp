@@ -314,8 +314,8 @@ TEST(HapticSession, RecordsTheSessionWithItsPartsAndANote) {
   EXPECT_EQ(info.annotations[0].text, "the grip slips here");
   EXPECT_EQ(info.annotations[0].part, "Cylinder");
   EXPECT_NEAR(info.annotations[0].time_s, 1.5, 0.5);
-  // At the mark (within the first tick's offset, read times count from it), not 200 ms later.
-  EXPECT_NEAR(info.annotations[0].time_s, mark.time_s, 1e-3);
+  // At the mark (read times count from the first tick, a few ms in under load), not 200 ms later.
+  EXPECT_NEAR(info.annotations[0].time_s, mark.time_s, 0.05);
   EXPECT_TRUE(info.droppedKnown);
   EXPECT_EQ(info.droppedRecords, 0u);
   EXPECT_GT(info.topics.at(std::string(session::kTickTopic)), 1000u);
