@@ -52,6 +52,38 @@ class _ErrorLog:
         return False
 
 
+def click_task_close(test):
+    """Clicks the task view's Close button (the open task dialog's), as the user does."""
+    from PySide2 import QtWidgets
+    close = None
+    for box in Gui.getMainWindow().findChildren(QtWidgets.QDialogButtonBox):
+        button = box.button(QtWidgets.QDialogButtonBox.Close)
+        if button is not None and button.isVisible():
+            close = button
+    test.assertIsNotNone(close, "no Close button in the task view")
+    close.click()
+
+
+def cylinder_doc(name, save_in=None):
+    """A new document (undo on) holding the sample cylinder lying along y at (400, 0, 300)
+    mm, seen from the front (right = +x, up = +z, into the screen = +y); saved in the folder
+    save_in when given. No undo entry."""
+    doc = App.newDocument(name)
+    doc.UndoMode = 1
+    cylinder = doc.addObject("Part::Feature", "Cylinder")
+    shape = Part.Shape()
+    shape.importBrep(os.path.join(RESOURCES, "parts", "cylinder.brep"))
+    cylinder.Shape = shape
+    cylinder.Placement = App.Placement(App.Vector(400, 0, 300), App.Rotation(App.Vector(1, 0, 0), -90))
+    doc.recompute()
+    if save_in:
+        doc.saveAs(os.path.join(save_in, name + ".FCStd"))
+    doc.clearUndos()
+    Gui.ActiveDocument.ActiveView.viewFront()
+    Gui.SendMsgToActiveView("ViewFit")
+    return doc, cylinder
+
+
 class HapticGraspGui(unittest.TestCase):
     def test_start_command_moves_the_selected_part_in_one_undo_step(self):
         from PySide2 import QtWidgets
@@ -279,18 +311,7 @@ class HapticGraspGui(unittest.TestCase):
 
     # --- the mouse hand through the live Qt -> Coin event path ---------------------------
     def _cylinder_doc(self, name):
-        doc = App.newDocument(name)
-        doc.UndoMode = 1
-        cylinder = doc.addObject("Part::Feature", "Cylinder")
-        shape = Part.Shape()
-        shape.importBrep(os.path.join(RESOURCES, "parts", "cylinder.brep"))
-        cylinder.Shape = shape
-        cylinder.Placement = App.Placement(App.Vector(400, 0, 300), App.Rotation(App.Vector(1, 0, 0), -90))
-        doc.recompute()
-        doc.clearUndos()
-        Gui.ActiveDocument.ActiveView.viewFront()   # right = +x, up = +z, into the screen = +y
-        Gui.SendMsgToActiveView("ViewFit")
-        return doc, cylinder
+        return cylinder_doc(name)
 
     def _start_mouse_hand(self):
         from PySide2 import QtWidgets
@@ -557,14 +578,7 @@ class HapticGraspGui(unittest.TestCase):
 
         def close_panel(controller):
             self.assertIsNotNone(controller.panel)
-            # The task dialog's own Close button, as the user clicks it.
-            close = None
-            for box in Gui.getMainWindow().findChildren(QtWidgets.QDialogButtonBox):
-                button = box.button(QtWidgets.QDialogButtonBox.Close)
-                if button is not None and button.isVisible():
-                    close = button
-            self.assertIsNotNone(close, "no Close button in the task view")
-            close.click()
+            click_task_close(self)   # the task dialog's own Close button, as the user clicks it
             self._wait(0.3)
             self.assertIsNone(controller.panel)
             self.assertFalse(Gui.Control.activeDialog())
@@ -730,16 +744,7 @@ class ReviewPanelGui(unittest.TestCase):
         """A saved document holding a cylinder that the demo hand lifts, carries and puts
         down in a recorded session; the live move undone. Returns (doc, cylinder, path)."""
         from PySide2 import QtWidgets
-        doc = App.newDocument("HapticGraspReview")
-        doc.UndoMode = 1
-        cylinder = doc.addObject("Part::Feature", "Cylinder")
-        shape = Part.Shape()
-        shape.importBrep(os.path.join(RESOURCES, "parts", "cylinder.brep"))
-        cylinder.Shape = shape
-        cylinder.Placement = App.Placement(App.Vector(400, 0, 300), App.Rotation(App.Vector(1, 0, 0), -90))
-        doc.recompute()
-        doc.saveAs(os.path.join(self.dir, "HapticGraspReview.FCStd"))
-        doc.clearUndos()
+        doc, cylinder = cylinder_doc("HapticGraspReview", self.dir)
         s = hs.HapticSession(doc, scene=True)
         try:
             keys, frame = hs.demo_script(s.parts[0])
@@ -819,13 +824,7 @@ class ReviewPanelGui(unittest.TestCase):
             # Back to the start, then Close: the view shows the document's placement again.
             panel.seek(0.0)
             self.assertGreater((self._shown_translation(cylinder) - cylinder.Placement.Base).Length, 20.0)
-            close = None
-            for box in Gui.getMainWindow().findChildren(QtWidgets.QDialogButtonBox):
-                button = box.button(QtWidgets.QDialogButtonBox.Close)
-                if button is not None and button.isVisible():
-                    close = button
-            self.assertIsNotNone(close, "no Close button in the task view")
-            close.click()
+            click_task_close(self)
             QtWidgets.QApplication.processEvents()
             self.assertFalse(Gui.Control.activeDialog())
             self.assertIsNone(review_panel.current())
