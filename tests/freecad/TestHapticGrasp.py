@@ -1986,6 +1986,8 @@ class Review(unittest.TestCase):
             keys, frame = hs.demo_script(s.parts[0])
             s.use_hand_script(keys, frame)
             s.start(record=True)
+            run(s, 1.2)
+            assert s.annotate("lifted high")
             run(s, 2.6)
         finally:
             s.stop()
@@ -2058,6 +2060,12 @@ class Review(unittest.TestCase):
         self.assertEqual(r.step(times[-1], 1), times[-1])
         items = r.timeline()
         self.assertTrue(any("MANIPULATE" in text for _t, text, _kind in items), items)
+        # The note: at about 1.2 s, about the box, with the hand where it held the box then.
+        (t, text, part, hand), = r.annotations
+        self.assertAlmostEqual(t, 1.2, delta=0.1)
+        self.assertEqual((text, part), ("lifted high", "Box"))
+        self.assertLess((App.Vector(*hand) - r.placements_at(t)[0].multVec(App.Vector(20, 20, 20))).Length, 10.0)
+        self.assertIn((t, "lifted high (Box, hand at (%.0f, %.0f, %.0f) mm)" % hand, "note"), items)
         self.assertEqual([t for t, _text, _kind in items], sorted(t for t, _text, _kind in items))
         # Reviewing writes nothing: no GUI here, so the preview moves nothing either.
         self.assertEqual(r.preview(1.2), 0)

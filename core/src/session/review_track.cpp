@@ -111,6 +111,10 @@ ReviewTrack readReviewTrack(const std::string& path, double frameRate_hz) {
   double nextFrame = 0;
   ReviewFrame last;  // the last tick when it is not a frame: the track ends where the recording does
   bool lastPending = false;
+  for (const Annotation& a : track.info.annotations) track.notes.push_back({a, Vec3::Zero()});
+  std::stable_sort(track.notes.begin(), track.notes.end(),
+                   [](const ReviewNote& a, const ReviewNote& b) { return a.note.time_s < b.note.time_s; });
+  std::size_t nextNote = 0;
   reader.scan(
       [&](const McapMessageView& m) {
         if (!described) {  // the description and its attachments precede every message
@@ -132,6 +136,8 @@ ReviewTrack readReviewTrack(const std::string& path, double frameRate_hz) {
         if (channel->second.topic != kTickTopic || !decodeTick(m.data, r)) return;
         const double t = seconds(m.logTime_ns, track.info.firstTime_ns);
         if (r.freshSample) hand = r.sample.hand;
+        for (; nextNote < track.notes.size() && track.notes[nextNote].note.time_s <= t; ++nextNote)
+          track.notes[nextNote].hand_m = 0.5 * (hand.fingertip(0) + hand.fingertip(1));
         const bool changed = r.events != 0 || r.state != r.stateBefore;
         const bool frame = t >= nextFrame || changed || track.frames.empty();
         keys.update(t, r, frame);

@@ -197,10 +197,11 @@ class Review:
 
     def timeline(self):
         """Events and annotations in time order: (time_s, text, kind) with kind "event",
-        "fault" or "note"; notes' texts name their part."""
+        "fault" or "note"; notes' texts name their part and where the hand was."""
         items = [(t, text, "fault" if fault else "event") for t, text, fault in self.events]
-        for t, text, part in self.annotations:
-            items.append((t, "%s (%s)" % (text, part) if part else text, "note"))
+        for t, text, part, (x, y, z) in self.annotations:
+            where = "hand at (%.0f, %.0f, %.0f) mm" % (x, y, z)
+            items.append((t, "%s (%s)" % (text, part + ", " + where if part else where), "note"))
         return sorted(items, key=lambda item: item[0])
 
     def part_name(self, index):

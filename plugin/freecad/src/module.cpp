@@ -619,11 +619,16 @@ PYBIND11_MODULE(_hapticgrasp, m) {
                                }
                                return out;
                              })
-      .def_property_readonly("annotations", [](const ReviewTrack& r) {
-        py::list out;
-        for (const auto& a : r.info.annotations) out.append(py::make_tuple(a.time_s, a.text, a.part));
-        return out;
-      });
+      .def_property_readonly(
+          "annotations",
+          [mmTuple](const ReviewTrack& r) {
+            py::list out;
+            for (const auto& n : r.notes)
+              out.append(py::make_tuple(n.note.time_s, n.note.text, n.note.part, mmTuple(n.hand_m)));
+            return out;
+          },
+          "The reviewers' notes in time order: (time s, text, part or '', the hand's position then in mm: "
+          "the midpoint of index and thumb).");
   m.def(
       "open_review",
       [](const std::string& path, double frameRate_hz) {

@@ -17,13 +17,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The bench session (grasp, lift, put-down of the cylinder) recorded, 3 s at 2 kHz.
+// The bench session (grasp, lift, put-down of the cylinder) recorded, 3 s at 2 kHz, with
+// two notes given out of order (lifted at 1.1 s, open hand at 0.05 s).
 std::string recordBench(const std::string& name) {
   const std::string file = (test::tempDir("review") / name).string();
   test::SteppedLoop session;
   Recorder recorder(file, session.description(), session.scene);
   session.loop.record(recorder.ring());
   recorder.start();
+  recorder.annotate(1.1, "lifted", "cylinder");
+  recorder.annotate(0.05, "open", "");
   session.run(0, 6000, 1000);
   recorder.stop();
   return file;
@@ -90,6 +93,21 @@ TEST(ReviewTrack, APartsPoseIsExactAtPutDownAndCloseWhileCarried) {
   std::printf("largest pose lag between frames: %.3f mm\n", 1e3 * worst);
   EXPECT_GT(worst, 0.0);
   EXPECT_LT(worst, 0.25 / 60 + 1e-9);  // 0.25 m/s at most, a 60 Hz frame
+}
+
+TEST(ReviewTrack, NotesComeInTimeOrderWithTheHandThen) {
+  const ReviewTrack track = readReviewTrack(recordBench("notes.mcap"), 60);
+  ASSERT_EQ(track.notes.size(), 2u);
+  EXPECT_EQ(track.notes[0].note.text, "open");
+  EXPECT_EQ(track.notes[1].note.text, "lifted");
+  EXPECT_EQ(track.notes[1].note.part, "cylinder");
+  for (const ReviewNote& n : track.notes) {  // the fingertips' midpoint, within a frame's travel
+    const ReviewFrame& f = track.frames[track.frameAt(n.note.time_s)];
+    EXPECT_LT((n.hand_m - 0.5 * (f.fingertip_m[0] + f.fingertip_m[1])).norm(), 0.25 / 60);
+    EXPECT_GT(n.hand_m.norm(), 0.0);
+  }
+  // Lifted: the hand 50 mm higher than when it was open.
+  EXPECT_GT(track.notes[1].hand_m.z() - track.notes[0].hand_m.z(), 0.04);
 }
 
 TEST(ReviewTrack, TakesEachPartsLastModelFromTheModelSwaps) {

@@ -36,12 +36,21 @@ struct PoseKey {
   grasp::PartPose pose;
 };
 
+// A reviewer's note with where the hand was then: the midpoint of the first two fingertips
+// (index and thumb) at the first tick at or after the note's time, world frame. Not stored
+// in the note itself: the ticks already hold every sample.
+struct ReviewNote {
+  Annotation note;
+  Vec3 hand_m = Vec3::Zero();
+};
+
 struct ReviewTrack {
   RecordingInfo info;
   std::vector<ReviewFrame> frames;               // increasing time_s
   std::vector<std::vector<PoseKey>> poses;       // per part, increasing time_s; empty: it never moved
   std::vector<RecordedPart> models;              // per part: its last recorded model, BREP included
   std::vector<SessionEvent> events;
+  std::vector<ReviewNote> notes;                 // info.annotations in time order, with the hand
 
   // The last frame at or before t (the first before it begins). Requires frames.
   std::size_t frameAt(double t) const;
