@@ -13,6 +13,7 @@
 #include "hapticgrasp/grasp/grasp_cylinder_experiment.hpp"
 #include "hapticgrasp/grasp/shake_experiment.hpp"
 #include "device_commands.hpp"
+#include "doctor.hpp"
 #include "session_commands.hpp"
 #include "penetration_ladder.hpp"
 
@@ -230,6 +231,9 @@ int main(int argc, char** argv) {
   reportCmd->add_option("-o,--output", reportOutput, "The report to write (.html)")->required();
 
   CLI::App* devices = app.add_subcommand("devices", "List HID devices and which back end or layout matches each");
+  CLI::App* doctorCmd = app.add_subcommand(
+      "doctor", "What this machine allows and lacks: real time, locked memory, HID access, FreeCAD, the workbench, audio");
+  doctorCmd->add_flag("--json", json, "Print JSON");
 
   CLI::App* experiment = app.add_subcommand("experiment", "Reproduce the papers' experiments");
   experiment->require_subcommand(1);
@@ -262,6 +266,7 @@ int main(int argc, char** argv) {
     if (servoBench->parsed()) return cli::benchServo(servoOptions, json);
     if (sceneBench->parsed()) return cli::benchScene(sceneOptions, json);
     if (devices->parsed()) return cli::listDevices();
+    if (doctorCmd->parsed()) return cli::doctor(json);
     if (recordCmd->parsed()) return cli::record(recordOptions, json);
     if (recordingInfoCmd->parsed()) return cli::recordingInfo(recordingPath, json);
     if (replayCmd->parsed()) return cli::replay(recordingPath, replayCheck, json);
