@@ -12,21 +12,11 @@ build: deps
 
 # The CLI grasp experiment and ladder first (always); then the FreeCAD addon is installed
 # (a symlink in ~/.local/share/FreeCAD/Mod) and, with a display, FreeCAD opens the demo
-# document (plugin/freecad/demo.py: the cylinder and the block, the task panel open).
-FREECAD_MOD ?= $(HOME)/.local/share/FreeCAD/Mod
+# document (plugin/freecad/demo.py: the cylinder and the block, the task panel open), as
+# root or as a normal user (packaging/demo-freecad). HG_DEMO_EXIT=1 closes it once set up.
 demo: build
 	$(BUILD)/plugin/cli/hapticgrasp demo
-	@if [ -e "$(FREECAD_MOD)/HapticGrasp" ] && [ ! -L "$(FREECAD_MOD)/HapticGrasp" ]; then \
-	  echo "$(FREECAD_MOD)/HapticGrasp exists and is not a symlink: addon not installed"; \
-	else \
-	  mkdir -p "$(FREECAD_MOD)" && ln -sfn "$(abspath $(BUILD))/freecad/HapticGrasp" "$(FREECAD_MOD)/HapticGrasp" && \
-	  echo "FreeCAD addon: $(FREECAD_MOD)/HapticGrasp -> $(abspath $(BUILD))/freecad/HapticGrasp"; \
-	fi
-	@if [ -n "$$DISPLAY" ] && command -v freecad >/dev/null 2>&1; then \
-	  HG_RESOURCES_DIR="$(CURDIR)/resources" freecad "$(CURDIR)/plugin/freecad/demo.py"; \
-	else \
-	  echo "no DISPLAY (or no freecad): FreeCAD demo skipped"; \
-	fi
+	packaging/demo-freecad $(BUILD) $(CURDIR)
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
