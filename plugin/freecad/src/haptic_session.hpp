@@ -172,6 +172,17 @@ struct SessionSnapshot {
   std::size_t exactParts = 0;  // parts answered by their own model (scene mode: the rest by their box)
 };
 
+// How the servo thread runs: what it asked for and got, and its timing so far (refreshed
+// every 64 ticks). The workbench's panel and its GUI tests read it.
+struct ServoTiming {
+  double target_hz = 0, achieved_hz = 0;
+  double periodErrP50_us = 0, periodErrP99_us = 0, periodErrMax_us = 0;
+  std::uint64_t ticks = 0;
+  std::string scheduler = "not started", memoryLock = "not started";  // ServoLoop's own words
+  bool realtime = false;  // SCHED_FIFO granted
+  std::string advice;     // why not, and how a user gets it; "" when granted or not asked for
+};
+
 // The session's recording (Session::recordTo), over every file it wrote: restart() closes
 // the file and goes on in "<name>-2.mcap" beside it (see Session::restart).
 struct RecordingStatus {
@@ -260,13 +271,13 @@ class Session {
   void setMethod(const std::string& method);
   const std::string& method() const { return method_; }
 
-  void start(double rate_hz = 1000, bool realtime = false);
+  void start(double rate_hz = 2000, bool realtime = true);
 
   // Scene mode: instead of addPart/addBuilt then start(), the servo starts at once on the
   // parts' stand-ins (their boxes), and each distinct shape's model is built in the
   // background, once, nearest the hand first, as its shape is provided. Throws
   // std::invalid_argument (no parts, a bad box or placement, no device).
-  void startScene(const std::vector<SceneRequest>& parts, double rate_hz = 2000, bool realtime = false,
+  void startScene(const std::vector<SceneRequest>& parts, double rate_hz = 2000, bool realtime = true,
                   int workers = 1);
   bool sceneMode() const { return build_ != nullptr; }
   // The models still waiting for their shape, nearest the hand first (at most `limit`); the
@@ -305,6 +316,8 @@ class Session {
   void annotate(const std::string& text);
   void annotate(const std::string& text, const NoteMark& mark);
   RecordingStatus recordingStatus() const;
+  // The running (or last) servo loop's scheduling and timing.
+  ServoTiming servoTiming() const;
 
   SessionSnapshot snapshot();
 
@@ -329,6 +342,7 @@ class Session {
   std::string method_ = "two-finger";
   std::unique_ptr<servo::GraspEngine> makeEngine(const grasp::ScenePtr& scene) const;
   std::unique_ptr<servo::ServoLoop> loop_;
+  std::string realtimeAdvice_;  // set when the loop asked for SCHED_FIFO and was refused
   std::unique_ptr<servo::ServoSnapshot> snap_ = std::make_unique<servo::ServoSnapshot>();
   servo::SnapshotReader reader_;
   servo::PoseTracker tracker_;  // every part's pose, from the snapshots' moving parts and put-downs

@@ -336,7 +336,7 @@ PYBIND11_MODULE(_hapticgrasp, m) {
            "Before start(): 'two-finger' (default) or 'multi-finger' (the resultant-force method, as many "
            "fingertips as the device reads).")
       .def_property_readonly("method", &freecad::Session::method)
-      .def("start", &freecad::Session::start, py::arg("rate_hz") = 1000.0, py::arg("realtime") = false,
+      .def("start", &freecad::Session::start, py::arg("rate_hz") = 2000.0, py::arg("realtime") = true,
            py::call_guard<py::gil_scoped_release>())
       .def(
           "start_scene",
@@ -360,7 +360,7 @@ PYBIND11_MODULE(_hapticgrasp, m) {
             py::gil_scoped_release release;
             s.startScene(requests, rate_hz, realtime, workers);
           },
-          py::arg("parts"), py::arg("rate_hz") = 2000.0, py::arg("realtime") = false, py::arg("workers") = 1,
+          py::arg("parts"), py::arg("rate_hz") = 2000.0, py::arg("realtime") = true, py::arg("workers") = 1,
           "Scene mode: starts the servo at once on every part's bounding box; parts are (name, key, box_min_mm, "
           "box_max_mm, base_mm, quaternion, density), the box in the part's own frame, the key shared by "
           "identical shapes. Each distinct shape's model is built in the background once its shape comes "
@@ -426,6 +426,26 @@ PYBIND11_MODULE(_hapticgrasp, m) {
           "A reviewer's note at the servo's current time (or at `mark`, from mark_note() when the reviewer "
           "began it), about the part under the hand (the grasped one, else the nearest within 30 mm of the grip "
           "centre, else none). Raises RuntimeError when not recording.")
+      .def(
+          "servo_timing",
+          [](const freecad::Session& s) {
+            const freecad::ServoTiming t = s.servoTiming();
+            py::dict d, err;
+            err["p50"] = t.periodErrP50_us;
+            err["p99"] = t.periodErrP99_us;
+            err["max"] = t.periodErrMax_us;
+            d["target_hz"] = t.target_hz;
+            d["achieved_hz"] = t.achieved_hz;
+            d["period_err_us"] = err;
+            d["ticks"] = t.ticks;
+            d["scheduler"] = t.scheduler;
+            d["memory_lock"] = t.memoryLock;
+            d["realtime"] = t.realtime;
+            d["advice"] = t.advice;
+            return d;
+          },
+          "The servo thread: target_hz, achieved_hz, period_err_us {p50, p99, max}, ticks, scheduler and "
+          "memory_lock as the loop got them, realtime (SCHED_FIFO granted) and advice (why not, and the fix).")
       .def(
           "recording_status",
           [](const freecad::Session& s) {

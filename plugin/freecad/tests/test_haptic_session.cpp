@@ -15,6 +15,7 @@
 #include <BRepTools.hxx>
 
 #include "haptic_session.hpp"
+#include "hapticgrasp/servo/realtime_access.hpp"
 #include "hapticgrasp/session/recording.hpp"
 
 namespace hg::freecad {
@@ -169,6 +170,31 @@ TEST(HapticSession, ReplacePartAndRestartMakeTheNewShapeFelt) {
   EXPECT_GT(after.forces_N[0][0], 0.1);  // pushed out through the cube's +x face
   EXPECT_GT(after.time_s, before.time_s);  // time and ticks carry on across the restart
   EXPECT_GT(after.tick, before.tick);
+}
+
+// The workbench's default: 2 kHz, asking for SCHED_FIFO and locked memory; the session says
+// what it got and, when refused, why and how to get it (as the probe finds it).
+TEST(HapticSession, RunsAt2kHzAskingForRealTimeAndSaysWhatItGot) {
+  Session session;
+  EXPECT_EQ(session.servoTiming().scheduler, "not started");
+  session.addPart("Cylinder", cylinderBrep(), Placement{{0, 0, 200}, {0, 0, 0, 1}}, geometry::MassSpec::mass(2));
+  session.useHandInput(0.5);
+  session.start();
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  const ServoTiming t = session.servoTiming();
+  session.stop();
+  EXPECT_EQ(t.target_hz, 2000);
+  EXPECT_GT(t.ticks, 64u);
+  EXPECT_GT(t.achieved_hz, 0);
+  EXPECT_LE(t.periodErrP50_us, t.periodErrP99_us);
+  EXPECT_LE(t.periodErrP99_us, t.periodErrMax_us);
+  const servo::RealtimeAccess access = servo::probeRealtime(servo::ServoConfig{}.fifoPriority);
+  EXPECT_EQ(t.realtime, access.granted) << t.scheduler;
+  EXPECT_EQ(t.scheduler == "SCHED_FIFO", access.granted);
+  EXPECT_EQ(t.advice.empty(), access.granted);
+  if (!access.granted) EXPECT_NE(t.advice.find("usermod -aG hapticgrasp"), std::string::npos) << t.advice;
+  std::printf("servo: %s, %s, %.0f of %.0f Hz, period error p99 %.1f us\n", t.scheduler.c_str(), t.memoryLock.c_str(),
+              t.achieved_hz, t.target_hz, t.periodErrP99_us);
 }
 
 }  // namespace
