@@ -1408,6 +1408,8 @@ class ForceParameters(unittest.TestCase):
                          {"K_c": 130.0, "B_c": 100.0, "K_g": 1000.0, "B_g": 800.0})
         self.assertEqual(stored, core.Session().parameters())
         self.assertEqual(stored["d_h"], 0.002)
+        # The multi-finger method's: the resultant-force paper's k = k_d = 800 N/m, mu = 1.
+        self.assertEqual({k: stored[k] for k in ("k", "k_d", "mu")}, {"k": 800.0, "k_d": 800.0, "mu": 1.0})
 
     def squeeze_force(self, **stored):
         """The grasping force felt while the demo hand holds its squeeze (no lift)."""
@@ -1444,7 +1446,9 @@ class ForceParameters(unittest.TestCase):
             s.start()
         self.assertIn("K_g", str(caught.exception))
         self.assertFalse(s.running)
-        for bad, key in (({"B_c": float("nan")}, "B_c"), ({"K_ox": "stiff"}, "K_ox"), ({"Q": 1.0}, "Q")):
+        for bad, key in (({"B_c": float("nan")}, "B_c"), ({"K_ox": "stiff"}, "K_ox"), ({"Q": 1.0}, "Q"),
+                         ({"k": 0.0}, "k must be"), ({"mu": -0.1}, "mu"), ({"gamma3": 0.0}, "gamma3"),
+                         ({"k_d": float("inf")}, "k_d")):
             with self.assertRaises(ValueError) as caught:
                 core.Session().set_parameters(bad)
             self.assertIn(key, str(caught.exception))

@@ -31,7 +31,9 @@ SPLIT_COMMAND_PATH = "HapticGrasp > Split into solids"   # gui.py's HapticGrasp_
 
 # Force parameters (SI), set in the preferences page "Haptic Grasp" and read at start().
 PARAMETER_PATH = "User parameter:BaseApp/Preferences/Mod/HapticGrasp"
-PARAMETER_KEYS = ("K_c", "B_c", "K_g", "B_g", "d_h", "K_ox", "K_oe")
+# The two-finger method's force laws [MH], then the multi-finger method's springs k and k_d,
+# friction mu and distribution weights gamma1..3 [RF eq 19] (core.Session.parameters()).
+PARAMETER_KEYS = ("K_c", "B_c", "K_g", "B_g", "d_h", "K_ox", "K_oe", "k", "k_d", "mu", "gamma1", "gamma2", "gamma3")
 # The grasp method, stored beside them: the first paper's two-finger state machine, or the
 # resultant-force paper's multi-finger method (as many fingertips as the device reads).
 METHOD_KEY = "GraspMethod"

@@ -351,7 +351,10 @@ bool Session::deviceForceOutput() const {
 
 namespace {
 
-double* parameterField(grasp::GraspParameters& p, const std::string& name) {
+// The two methods' parameters by their papers' names: the two-finger method's force laws
+// [MH], and the multi-finger method's springs, friction and distribution weights [RF]:
+// k (finger–god-object springs), k_d (the dynamics' spring), mu (μ), gamma1..3 (γ of eq 19).
+double* parameterField(grasp::GraspParameters& p, grasp::multi_finger::MultiFingerParams& m, const std::string& name) {
   if (name == "K_c") return &p.K_c;
   if (name == "B_c") return &p.B_c;
   if (name == "K_g") return &p.K_g;
@@ -359,32 +362,58 @@ double* parameterField(grasp::GraspParameters& p, const std::string& name) {
   if (name == "d_h") return &p.d_h;
   if (name == "K_ox") return &p.K_ox;
   if (name == "K_oe") return &p.K_oe;
+  if (name == "k") return &m.stiffness;
+  if (name == "k_d") return &m.dynamicsStiffness;
+  if (name == "mu") return &m.friction;
+  if (name == "gamma1") return &m.distribution.gamma1;
+  if (name == "gamma2") return &m.distribution.gamma2;
+  if (name == "gamma3") return &m.distribution.gamma3;
   return nullptr;
+}
+
+// The multi-finger method's ranges: positive springs, non-negative friction and weights (γ1
+// ≤ 0 selects its scale-free default), all finite.
+void validateMultiFinger(const grasp::multi_finger::MultiFingerParams& m) {
+  const auto require = [](bool ok, const char* what) {
+    if (!ok) throw std::invalid_argument(what);
+  };
+  require(std::isfinite(m.stiffness) && m.stiffness > 0, "k must be a positive finite stiffness (N/m)");
+  require(std::isfinite(m.dynamicsStiffness) && m.dynamicsStiffness > 0, "k_d must be a positive finite stiffness (N/m)");
+  require(std::isfinite(m.friction) && m.friction >= 0, "mu must be a finite friction coefficient >= 0");
+  require(std::isfinite(m.distribution.gamma1), "gamma1 must be finite (<= 0: 1/L^2)");
+  require(std::isfinite(m.distribution.gamma2) && m.distribution.gamma2 >= 0, "gamma2 must be finite and >= 0");
+  require(std::isfinite(m.distribution.gamma3) && m.distribution.gamma3 > 0, "gamma3 must be finite and > 0");
 }
 
 }  // namespace
 
 const std::vector<std::string>& Session::parameterNames() {
-  static const std::vector<std::string> names{"K_c", "B_c", "K_g", "B_g", "d_h", "K_ox", "K_oe"};
+  static const std::vector<std::string> names{"K_c", "B_c", "K_g", "B_g", "d_h", "K_ox", "K_oe",
+                                              "k",   "k_d", "mu",  "gamma1", "gamma2", "gamma3"};
   return names;
 }
 
 void Session::setParameters(const std::vector<std::pair<std::string, double>>& values) {
   if (loop_) throw std::logic_error("parameters must be set before start()");
   grasp::GraspParameters p = parameters_;
+  grasp::multi_finger::MultiFingerParams m = multiFinger_;
   for (const auto& [name, value] : values) {
-    double* field = parameterField(p, name);
+    double* field = parameterField(p, m, name);
     if (!field)
-      throw std::invalid_argument("unknown grasp parameter " + name + " (known: K_c, B_c, K_g, B_g, d_h, K_ox, K_oe)");
+      throw std::invalid_argument("unknown grasp parameter " + name +
+                                  " (known: K_c, B_c, K_g, B_g, d_h, K_ox, K_oe, k, k_d, mu, gamma1, gamma2, gamma3)");
     *field = value;
   }
   p.validate();
+  validateMultiFinger(m);
   parameters_ = p;
+  multiFinger_ = m;
 }
 
 double Session::parameter(const std::string& name) const {
   grasp::GraspParameters p = parameters_;
-  const double* field = parameterField(p, name);
+  grasp::multi_finger::MultiFingerParams m = multiFinger_;
+  const double* field = parameterField(p, m, name);
   if (!field) throw std::invalid_argument("unknown grasp parameter " + name);
   return *field;
 }
@@ -458,10 +487,12 @@ void Session::setMethod(const std::string& method) {
   method_ = method;
 }
 
-// The multi-finger method drives every fingertip the device reads, with its paper's
-// defaults (k = k_d = 800 N/m, μ = 1); the two-finger one takes the force parameters.
+// The multi-finger method drives every fingertip the device reads, with its parameters (the
+// paper's defaults k = k_d = 800 N/m, μ = 1 unless set); the two-finger one takes the force
+// parameters.
 grasp::multi_finger::MultiFingerSceneParams Session::multiFingerParams() const {
   grasp::multi_finger::MultiFingerSceneParams params;
+  params.grasp = multiFinger_;
   params.grasp.gravity = parameters_.gravity;
   return params;
 }

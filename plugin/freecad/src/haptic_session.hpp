@@ -329,6 +329,7 @@ class Session {
   std::vector<grasp::ScenePart> parts_;
   std::vector<PartInfo> infos_;
   grasp::GraspParameters parameters_;
+  grasp::multi_finger::MultiFingerParams multiFinger_;  // the multi-finger method's k, k_d, μ, γ
   std::unique_ptr<grasp::HandScript> script_;
   double handHold_s_ = 0;  // > 0: the hand input device was chosen
   std::shared_ptr<servo::ScriptedHandDevice> scripted_;

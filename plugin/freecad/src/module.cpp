@@ -322,8 +322,9 @@ PYBIND11_MODULE(_hapticgrasp, m) {
             s.setParameters(v);
           },
           py::arg("values"),
-          "Before start(): force parameters in SI, a dict with any of K_c, B_c, K_g, B_g, d_h, K_ox, K_oe "
-          "(the others keep their values). Validated by the core; raises ValueError naming the key.")
+          "Before start(): force parameters in SI, a dict with any of K_c, B_c, K_g, B_g, d_h, K_ox, K_oe (the "
+          "two-finger method) and k, k_d, mu, gamma1, gamma2, gamma3 (the multi-finger method); the others keep "
+          "their values. Validated by the core; raises ValueError naming the key.")
       .def(
           "parameters",
           [](const freecad::Session& s) {
@@ -331,7 +332,8 @@ PYBIND11_MODULE(_hapticgrasp, m) {
             for (const auto& name : freecad::Session::parameterNames()) d[py::str(name)] = s.parameter(name);
             return d;
           },
-          "The force parameters the session starts with (SI): K_c, B_c, K_g, B_g, d_h, K_ox, K_oe.")
+          "The parameters the session starts with (SI): K_c, B_c, K_g, B_g, d_h, K_ox, K_oe, k, k_d, mu, gamma1, "
+          "gamma2, gamma3.")
       .def("set_method", &freecad::Session::setMethod, py::arg("method"),
            "Before start(): 'two-finger' (default) or 'multi-finger' (the resultant-force method, as many "
            "fingertips as the device reads).")

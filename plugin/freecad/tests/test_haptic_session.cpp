@@ -172,6 +172,34 @@ TEST(HapticSession, ReplacePartAndRestartMakeTheNewShapeFelt) {
   EXPECT_GT(after.tick, before.tick);
 }
 
+// The multi-finger method's k, k_d, μ, γ are the session's to set, checked, and reach the
+// engine: the recording's description (what replay rebuilds the engine from) holds them.
+TEST(HapticSession, TheMultiFingerParametersReachTheEngine) {
+  Session session;
+  EXPECT_EQ(session.parameter("k"), 800);
+  EXPECT_EQ(session.parameter("mu"), 1);
+  EXPECT_THROW(session.setParameters({{"k", -1}}), std::invalid_argument);
+  EXPECT_THROW(session.setParameters({{"gamma3", 0}}), std::invalid_argument);
+  EXPECT_EQ(session.parameter("k"), 800);  // a refused set changes nothing
+  session.setParameters({{"k", 400}, {"k_d", 600}, {"mu", 0.5}, {"gamma2", 2e-3}});
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("hg_session_mf_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  const std::string path = (dir / "mf.mcap").string();
+  session.addPart("Cylinder", cylinderBrep(), Placement{{0, 0, 200}, {0, 0, 0, 1}}, geometry::MassSpec::mass(2));
+  session.useHandInput(0.5);
+  session.setMethod("multi-finger");
+  session.recordTo(path, "");
+  session.start(1000, false);
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  session.stop();
+  const auto recorded = session::readRecordingInfo(path).description.multiFinger.grasp;
+  EXPECT_EQ(recorded.stiffness, 400);
+  EXPECT_EQ(recorded.dynamicsStiffness, 600);
+  EXPECT_EQ(recorded.friction, 0.5);
+  EXPECT_EQ(recorded.distribution.gamma2, 2e-3);
+  std::filesystem::remove_all(dir);
+}
+
 // The workbench's default: 2 kHz, asking for SCHED_FIFO and locked memory; the session says
 // what it got and, when refused, why and how to get it (as the probe finds it).
 TEST(HapticSession, RunsAt2kHzAskingForRealTimeAndSaysWhatItGot) {
