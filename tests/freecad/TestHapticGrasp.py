@@ -1398,9 +1398,32 @@ class ForceParameters(unittest.TestCase):
 
     def tearDown(self):
         group = App.ParamGet(hs.PARAMETER_PATH)
-        for key in hs.PARAMETER_KEYS:
+        for key in hs.PARAMETER_KEYS + (hs.SERVO_RATE_KEY,):
             group.RemFloat(key)
+        group.RemBool(hs.REALTIME_KEY)
         HapticGraspDocument.tearDown(self)
+
+    def test_the_servo_runs_at_2_khz_asking_for_real_time_unless_the_preferences_say_otherwise(self):
+        self.assertEqual(hs.stored_servo(), (2000.0, True))
+        s = self.make_session(lift=False)
+        s.start()
+        timing = s.servo_timing()
+        s.stop()
+        self.assertEqual(timing["target_hz"], 2000.0)
+        self.assertEqual(timing["realtime"], timing["scheduler"] == "SCHED_FIFO")
+        self.assertEqual(bool(timing["advice"]), not timing["realtime"])   # refused: why and the fix
+        self.assertEqual(any("without real time" in m for m in s.messages), not timing["realtime"])
+        print("workbench servo (freecadcmd): %s, %s" % (timing["scheduler"], timing["memory_lock"]))
+        hs.store_servo(1000, False)
+        self.assertEqual(hs.stored_servo(), (1000.0, False))
+        with self.assertRaises(ValueError):
+            hs.store_servo(50, True)
+        s = self.make_session(lift=False)
+        s.start()
+        timing = s.servo_timing()
+        s.stop()
+        self.assertEqual((timing["target_hz"], timing["scheduler"], timing["advice"]),
+                         (1000.0, "SCHED_OTHER (not requested)", ""))
 
     def test_the_defaults_are_the_papers_and_the_cores(self):
         stored = hs.stored_parameters()
