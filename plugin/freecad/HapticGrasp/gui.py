@@ -51,7 +51,7 @@ class _HapticGraspController:
         """Start: the servo loop runs at once on every part's bounding box; the part models
         are built in the background, nearest the hand first, each distinct shape once, and
         each part is felt through its own model as soon as it is in (the panel counts them)."""
-        from PySide2 import QtCore
+        from PySide import QtCore   # FreeCAD's shim
         doc = App.ActiveDocument
         if doc is None:
             App.Console.PrintError("HapticGrasp: no active document\n")
@@ -397,7 +397,7 @@ class MouseEvents:
         down = event.getState() == coin.SoButtonEvent.DOWN
         if key == coin.SoKeyboardEvent.ESCAPE and down:
             node.setHandled()
-            from PySide2 import QtCore   # not from inside the callback being removed
+            from PySide import QtCore   # not from inside the callback being removed
             QtCore.QTimer.singleShot(0, self.controller.cancel)
         elif key == getattr(coin.SoKeyboardEvent, self.PINCH_KEY) and self.controller.hand is not None:
             self.controller.hand.pinch(down)
@@ -407,7 +407,7 @@ class MouseEvents:
 def _wheel_filter(events):
     """A QObject whose eventFilter turns the viewport's wheel events into events.wheel()
     (angleDelta 120 = one notch) and consumes them."""
-    from PySide2 import QtCore
+    from PySide import QtCore
 
     class WheelFilter(QtCore.QObject):
         def eventFilter(self, watched, event):

@@ -83,14 +83,14 @@ class HapticTaskPanel:
     """The task dialog; `form` is the QWidget FreeCAD shows in the combo view."""
 
     def __init__(self, controller):
-        from PySide2 import QtWidgets
+        from PySide import QtCore, QtGui   # FreeCAD's shim: QtGui holds the widgets too
         self.controller = controller
-        self.form = QtWidgets.QWidget()
+        self.form = QtGui.QWidget()
         self.form.setObjectName("HapticGraspTaskPanel")
         self.form.setWindowTitle("HapticGrasp")
-        layout = QtWidgets.QVBoxLayout(self.form)
-        grid = QtWidgets.QFormLayout()
-        self.device_combo = QtWidgets.QComboBox()
+        layout = QtGui.QVBoxLayout(self.form)
+        grid = QtGui.QFormLayout()
+        self.device_combo = QtGui.QComboBox()
         self.device_combo.setObjectName("HapticGrasp_DeviceCombo")
         self.device_combo.setToolTip("Mouse and keyboard: move the mouse to move the hand in the view "
                                      "plane, wheel for depth, hold G to pinch, Esc cancels. Simulated arm: "
@@ -125,10 +125,9 @@ class HapticTaskPanel:
             controller.device_layout = self.layouts[current]
         self.device_combo.currentIndexChanged.connect(self._device_changed)
         grid.addRow("Input:", self.device_combo)
-        self.message = QtWidgets.QLabel(hid_message(devices, problems))
+        self.message = QtGui.QLabel(hid_message(devices, problems))
         self.message.setObjectName("HapticGrasp_message")
         self.message.setWordWrap(True)
-        from PySide2 import QtCore
         self.message.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)   # the udev rule can be copied
         grid.addRow(self.message)
         self.fields = {}
@@ -137,23 +136,22 @@ class HapticTaskPanel:
                            ("rate", "Servo rate"), ("jitter", "Servo jitter"), ("time", "Servo time"),
                            ("moves", "Moves / faults"), ("models", "Exact models"), ("sound", "Sound"),
                            ("recording", "Recording")):
-            label = QtWidgets.QLabel("-")
+            label = QtGui.QLabel("-")
             label.setObjectName("HapticGrasp_" + key)
             grid.addRow(title + ":", label)
             self.fields[key] = label
         layout.addLayout(grid)
-        buttons = QtWidgets.QHBoxLayout()
-        self.start_button = QtWidgets.QPushButton("Start")
+        buttons = QtGui.QHBoxLayout()
+        self.start_button = QtGui.QPushButton("Start")
         self.start_button.setObjectName("HapticGrasp_StartButton")
-        self.stop_button = QtWidgets.QPushButton("Stop")
+        self.stop_button = QtGui.QPushButton("Stop")
         self.stop_button.setObjectName("HapticGrasp_StopButton")
         self.start_button.clicked.connect(self._start)
         self.stop_button.clicked.connect(self._stop)
         buttons.addWidget(self.start_button)
         buttons.addWidget(self.stop_button)
         layout.addLayout(buttons)
-        from PySide2 import QtGui
-        self.note_button = QtWidgets.QPushButton("Add note")
+        self.note_button = QtGui.QPushButton("Add note")
         self.note_button.setObjectName("HapticGrasp_NoteButton")
         self.note_button.setToolTip("A short note for the reviewer, in the recording at this moment, about the part "
                                     "under the hand (N)")
@@ -167,8 +165,8 @@ class HapticTaskPanel:
 
     # --- FreeCAD task dialog protocol -------------------------------------------------
     def getStandardButtons(self):
-        from PySide2 import QtWidgets
-        return int(QtWidgets.QDialogButtonBox.Close)
+        from PySide import QtGui
+        return int(QtGui.QDialogButtonBox.Close)
 
     def reject(self):
         import FreeCADGui as Gui
@@ -213,16 +211,16 @@ class HapticTaskPanel:
     # --- model build progress ---------------------------------------------------------
     def _add_build_row(self, layout):
         """The model build: which part, a progress bar (parts done / total) and Cancel."""
-        from PySide2 import QtWidgets
-        self.build_label = QtWidgets.QLabel("")
+        from PySide import QtGui
+        self.build_label = QtGui.QLabel("")
         self.build_label.setObjectName("HapticGrasp_BuildLabel")
-        self.build_bar = QtWidgets.QProgressBar()
+        self.build_bar = QtGui.QProgressBar()
         self.build_bar.setObjectName("HapticGrasp_BuildProgress")
         self.build_bar.setFormat("%v / %m parts")
-        self.cancel_button = QtWidgets.QPushButton("Cancel")
+        self.cancel_button = QtGui.QPushButton("Cancel")
         self.cancel_button.setObjectName("HapticGrasp_CancelBuildButton")
         self.cancel_button.clicked.connect(lambda: self.controller.cancel_build())
-        row = QtWidgets.QHBoxLayout()
+        row = QtGui.QHBoxLayout()
         row.addWidget(self.build_bar, 1)
         row.addWidget(self.cancel_button)
         layout.addWidget(self.build_label)

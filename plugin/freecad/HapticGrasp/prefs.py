@@ -18,30 +18,30 @@ FIELDS = (
 
 class HapticGraspPreferences:
     def __init__(self):
-        from PySide2 import QtWidgets
-        self.form = QtWidgets.QWidget()
+        from PySide import QtGui   # FreeCAD's shim: QtGui holds the widgets too
+        self.form = QtGui.QWidget()
         self.form.setObjectName("HapticGraspPreferences")
         self.form.setWindowTitle("Haptic Grasp")
-        layout = QtWidgets.QVBoxLayout(self.form)
-        methods = QtWidgets.QFormLayout()
-        self.method = QtWidgets.QComboBox()
+        layout = QtGui.QVBoxLayout(self.form)
+        methods = QtGui.QFormLayout()
+        self.method = QtGui.QComboBox()
         self.method.setObjectName("HapticGrasp_Pref_Method")
         self.method.addItem("Two fingers: grasp state machine (Maekawa & Hollerbach)", "two-finger")
         self.method.addItem("Multi-finger: grasping force kept apart from the resultant (every fingertip "
                             "the device has)", "multi-finger")
         methods.addRow("Grasp method:", self.method)
-        self.record = QtWidgets.QCheckBox("Record sessions")
+        self.record = QtGui.QCheckBox("Record sessions")
         self.record.setObjectName("HapticGrasp_Pref_Record")
         self.record.setToolTip("Start records each session for review: <document folder>/<document name>.reviews/"
                                "<date_time>.mcap (unsaved documents: ~/.local/share/HapticGrasp/reviews/). "
                                "Nothing in the document changes.")
         methods.addRow(self.record)
         layout.addLayout(methods)
-        box = QtWidgets.QGroupBox("Force parameters (SI; the paper's K_c 130, B_c 100, K_g 1000, B_g 800)")
-        grid = QtWidgets.QFormLayout(box)
+        box = QtGui.QGroupBox("Force parameters (SI; the paper's K_c 130, B_c 100, K_g 1000, B_g 800)")
+        grid = QtGui.QFormLayout(box)
         self.spins = {}
         for key, label, unit, decimals, maximum, step in FIELDS:
-            spin = QtWidgets.QDoubleSpinBox()
+            spin = QtGui.QDoubleSpinBox()
             spin.setObjectName("HapticGrasp_Pref_" + key)
             spin.setDecimals(decimals)
             spin.setRange(0.0, maximum)
@@ -50,12 +50,12 @@ class HapticGraspPreferences:
             grid.addRow(label + ":", spin)
             self.spins[key] = spin
         layout.addWidget(box)
-        reset = QtWidgets.QPushButton("Defaults")
+        reset = QtGui.QPushButton("Defaults")
         reset.setObjectName("HapticGrasp_Pref_Defaults")
         reset.clicked.connect(self.reset)
         layout.addWidget(reset)
         layout.addStretch(1)
-        note = QtWidgets.QLabel("Read when haptics start.")
+        note = QtGui.QLabel("Read when haptics start.")
         layout.addWidget(note)
 
     def _show(self, values):

@@ -36,7 +36,11 @@ class SoundBoard:
         self.played = []       # the ones actually handed to QSoundEffect.play()
         self.error = None
         try:
-            from PySide2 import QtCore, QtMultimedia
+            from PySide import QtCore   # FreeCAD's shim
+            try:
+                from PySide import QtMultimedia
+            except ImportError:   # FreeCAD 0.20.2's shim has only QtCore, QtGui, QtSvg, QtUiTools
+                from PySide2 import QtMultimedia
             self._ready = QtMultimedia.QSoundEffect.Status.Ready
             for name in NAMES:
                 path = os.path.join(SOUND_DIR, name + ".wav")
