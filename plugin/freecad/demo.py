@@ -39,7 +39,7 @@ def main():
     Gui.SendMsgToActiveView("ViewFit")
     Gui.Selection.clearSelection()
     Gui.Selection.addSelection(cylinder)
-    from HapticGrasp import gui as hgui
+    from freecad.hapticgrasp import gui as hgui
     panel = hgui._HapticGraspController.show_panel()
     App.Console.PrintMessage("HapticGrasp demo: %s; press Start in the task panel\n"
                              % ("panel open" if panel is not None else "no panel"))

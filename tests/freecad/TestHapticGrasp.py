@@ -2,8 +2,8 @@
 document objects, the real servo thread driven by a scripted hand, and the document
 updated by HapticSession.tick() as the GUI timer would.
 
-Run: `freecadcmd -t TestHapticGrasp` with the built package in the Mod folder
-(tests/freecad/run_freecadcmd.sh does that in a throw-away HOME)."""
+Run: `freecadcmd -t freecad.hapticgrasp.TestHapticGrasp` with the built addon in the Mod
+folder (tests/freecad/run_freecadcmd.sh does that in a throw-away HOME)."""
 import json
 import math
 import os
@@ -16,10 +16,8 @@ import unittest
 import FreeCAD as App
 import Part
 
-# FreeCAD puts the package folder (Mod/HapticGrasp) on sys.path; import it as a package.
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.realpath(__file__))))
-from HapticGrasp import _hapticgrasp as core  # noqa: E402
-from HapticGrasp import session as hs  # noqa: E402
+from freecad.hapticgrasp import _hapticgrasp as core
+from freecad.hapticgrasp import session as hs
 
 RESOURCES = os.environ.get("HG_RESOURCES_DIR", "")
 TICK_S = 1.0 / 50  # the GUI timer's period
@@ -1484,7 +1482,7 @@ class MouseHandGeometry(unittest.TestCase):
     """The mouse-and-keyboard hand, pure Python."""
 
     def test_moves_in_the_view_plane_as_computed(self):
-        from HapticGrasp.mouse_hand import MouseHand
+        from freecad.hapticgrasp.mouse_hand import MouseHand
         hand = MouseHand(centre_mm=(10.0, 20.0, 30.0), grip_mm=40.0)
         right, up = (0.0, 1.0, 0.0), (0.0, 0.0, 2.0)   # up not unit: normalised
         hand.move_in_view_plane(10, -4, right, up, 0.5)
@@ -1495,7 +1493,7 @@ class MouseHandGeometry(unittest.TestCase):
         self.assertEqual(wrist, (10.0, 25.0, 128.0))  # above, along the view's up vector
 
     def test_wheel_moves_along_the_view_direction(self):
-        from HapticGrasp.mouse_hand import MouseHand
+        from freecad.hapticgrasp.mouse_hand import MouseHand
         hand = MouseHand(centre_mm=(0.0, 0.0, 0.0))
         hand.wheel(3, (0.0, 0.0, -4.0), 5.0)
         self.assertEqual(hand.centre, (0.0, 0.0, -15.0))
@@ -1503,7 +1501,7 @@ class MouseHandGeometry(unittest.TestCase):
         self.assertEqual(hand.centre, (0.0, 0.0, -10.0))
 
     def test_pinch_closes_the_grip_over_time_and_release_opens_it(self):
-        from HapticGrasp.mouse_hand import MouseHand
+        from freecad.hapticgrasp.mouse_hand import MouseHand
         hand = MouseHand(grip_mm=60.0, min_grip_mm=10.0, rate_mm_s=40.0)
         hand.pinch(True)
         hand.tick(0.5)
@@ -1555,7 +1553,7 @@ class MouseHandSession(unittest.TestCase):
         return states, False
 
     def mouse_session(self):
-        from HapticGrasp.mouse_hand import MouseHand
+        from freecad.hapticgrasp.mouse_hand import MouseHand
         self.session = s = hs.HapticSession(self.doc)
         s.use_hand_input(hold_s=0.5)
         box = self.cylinder.Shape.BoundBox
@@ -1625,8 +1623,8 @@ class MouseHandSession(unittest.TestCase):
     def test_closing_the_panel_mid_move_cancels_like_esc(self):
         # The panel's Close / the dialog's reject go through panel.close_session(): the real
         # controller, without a GUI (no timer, overlay or Coin callbacks in freecadcmd).
-        from HapticGrasp import gui as hgui
-        from HapticGrasp import panel as hpanel
+        from freecad.hapticgrasp import gui as hgui
+        from freecad.hapticgrasp import panel as hpanel
         controller = hgui._HapticGraspController
         before = App.Placement(self.cylinder.Placement)
         s, hand = self.mouse_session()
@@ -1679,7 +1677,7 @@ class SimulatedArmSession(unittest.TestCase):
     GRASP_BELOW_TOP_MM = 25.0   # the grasp height under the block's top (the core's bench)
 
     def arm_session(self, hold_s=0.5):
-        from HapticGrasp import mouse_hand
+        from freecad.hapticgrasp import mouse_hand
         self.session = s = hs.HapticSession(self.doc)
         rest = s.use_simulated_arm(self.block, hold_s=hold_s)
         self.assertEqual(s.core.device_name, "simulated arm")
@@ -1860,7 +1858,7 @@ class HidDeviceSession(unittest.TestCase):
                          [(self.PATH, "spacemouse"), ("/dev/hidraw-test1", "layout"), ("/dev/hidraw-test2", "none")])
         self.assertEqual(devices[0]["model"], "SpaceNavigator")
         self.assertTrue(devices[1]["layout"].endswith("ff_joystick_3dof.json"), devices[1])
-        from HapticGrasp import panel as hpanel
+        from freecad.hapticgrasp import panel as hpanel
         self.assertEqual([key for key, _, _ in hpanel.hid_choices(devices)],
                          ["spacemouse:" + self.PATH, "hid:/dev/hidraw-test1"])
         self.assertIn("No SpaceMouse or HID device attached", hpanel.hid_message([], []))
@@ -2023,7 +2021,7 @@ class Review(unittest.TestCase):
 
     @classmethod
     def setUpClass(cls):
-        from HapticGrasp import review as hreview
+        from freecad.hapticgrasp import review as hreview
         cls.hreview = hreview
         cls.dir = tempfile.mkdtemp()
         doc, cls.path, cls.start, cls.end = cls.record(cls.dir, "ReviewBench")
@@ -2204,3 +2202,36 @@ class Review(unittest.TestCase):
             self.hreview.Review(path)
         self.assertIn("notes.mcap cannot be reviewed: ", str(caught.exception))
         self.assertGreater(len(str(caught.exception)), len(path + " cannot be reviewed: "))
+
+
+class AddonLayout(unittest.TestCase):
+    """The namespace-package layout: FreeCAD found <Mod>/HapticGrasp/freecad/hapticgrasp on
+    its own (no sys.path patch), imported its init module, and the compiled core is inside
+    the package."""
+
+    def test_freecad_imported_the_package_from_the_namespace(self):
+        import importlib.util
+        import freecad.hapticgrasp as package
+        self.assertIn("freecad.hapticgrasp.init", sys.modules)   # imported by FreeCAD at start-up
+        self.assertIn("freecad.hapticgrasp.TestHapticGrasp", App.__unit_test__)
+        self.assertEqual(os.path.basename(os.path.dirname(package.PACKAGE_DIR)), "freecad")
+        self.assertEqual(os.path.dirname(os.path.realpath(core.__file__)), os.path.realpath(package.PACKAGE_DIR))
+        # Nothing put the package's own folder on sys.path: the core is no top-level module.
+        self.assertIsNone(importlib.util.find_spec("_hapticgrasp"))
+        self.assertNotIn("HapticGrasp", sys.modules)
+
+    def test_report_py_runs_as_a_script_beside_the_core(self):
+        # What `hapticgrasp report` does: the script's folder is sys.path[0], so the core
+        # imports; a missing file is then refused by the core's reader (exit 2), not by an
+        # ImportError (exit 1).
+        import subprocess
+        import freecad.hapticgrasp as package
+        python = shutil.which("python%d.%d" % sys.version_info[:2])
+        self.assertIsNotNone(python)
+        with tempfile.TemporaryDirectory() as folder:
+            run = subprocess.run([python, os.path.join(package.PACKAGE_DIR, "report.py"),
+                                  os.path.join(folder, "missing.mcap"), "-o", os.path.join(folder, "r.html")],
+                                 capture_output=True, text=True, timeout=60)
+        self.assertEqual(run.returncode, 2, run.stderr)
+        self.assertIn("missing.mcap", run.stderr)
+        self.assertNotIn("Error", run.stderr)

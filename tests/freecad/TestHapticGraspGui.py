@@ -6,8 +6,8 @@ with Stop); nothing is reported as an error; a screenshot is saved to the build 
 (build/freecad/screenshots/TestHapticGraspGui.png). Sounds are requested on transitions and
 stay silent without an audio server. Frame rates are never asserted.
 
-Run: `QTWEBENGINE_DISABLE_SANDBOX=1 xvfb-run -a freecad -t TestHapticGraspGui` with the
-built package in the Mod folder (tests/freecad/run_freecad_gui.sh)."""
+Run: `QTWEBENGINE_DISABLE_SANDBOX=1 xvfb-run -a freecad -t freecad.hapticgrasp.TestHapticGraspGui`
+with the built addon in the Mod folder (tests/freecad/run_freecad_gui.sh)."""
 import os
 import sys
 import time
@@ -17,13 +17,14 @@ import FreeCAD as App
 import FreeCADGui as Gui
 import Part
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.realpath(__file__))))
-from HapticGrasp import gui as hgui  # noqa: E402
-from HapticGrasp import session as hs  # noqa: E402
+from freecad.hapticgrasp import gui as hgui
+from freecad.hapticgrasp import session as hs
 
 RESOURCES = os.environ.get("HG_RESOURCES_DIR", "")
-SCREENSHOT = os.path.join(os.path.dirname(os.path.dirname(os.path.realpath(__file__))), "screenshots",
-                          "TestHapticGraspGui.png")
+# build/freecad/screenshots: this file is build/freecad/HapticGrasp/freecad/hapticgrasp/<this>.
+SCREENSHOT_DIR = os.path.normpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), os.pardir, os.pardir,
+                                               os.pardir, "screenshots"))
+SCREENSHOT = os.path.join(SCREENSHOT_DIR, "TestHapticGraspGui.png")
 
 
 class _ErrorLog:
@@ -250,7 +251,7 @@ class HapticGraspGui(unittest.TestCase):
             App.closeDocument(doc.Name)
 
     def test_transition_sounds(self):
-        from HapticGrasp import sounds as hsounds
+        from freecad.hapticgrasp import sounds as hsounds
         steps = ["FREE", "INDEX CONTACT", "THUMB CONTACT", "GRASP", "MANIPULATE", "GRASP", "FREE"]
         played = [hsounds.transition_sound(a, b) for a, b in zip(steps, steps[1:])]
         self.assertEqual(played, ["contact", None, "grasp", "lift", None, "release"])
@@ -262,7 +263,7 @@ class HapticGraspGui(unittest.TestCase):
         board.close()
 
     def test_the_preferences_page_stores_the_force_parameters(self):
-        from HapticGrasp import prefs as hprefs
+        from freecad.hapticgrasp import prefs as hprefs
         group = App.ParamGet(hs.PARAMETER_PATH)
         page = hprefs.HapticGraspPreferences()
         try:
@@ -588,8 +589,8 @@ class HapticGraspGui(unittest.TestCase):
     # --- HID devices in the picker (the module's fake transport, test only) --------------
     def test_the_picker_lists_an_attached_spacemouse_and_says_when_none_is(self):
         from PySide2 import QtWidgets
-        from HapticGrasp import _hapticgrasp as core
-        from HapticGrasp import panel as hpanel
+        from freecad.hapticgrasp import _hapticgrasp as core
+        from freecad.hapticgrasp import panel as hpanel
         Gui.activateWorkbench("HapticGraspWorkbench")
         controller = hgui._HapticGraspController
         feed = core._use_fake_hid()
@@ -622,7 +623,7 @@ class HapticGraspGui(unittest.TestCase):
     def test_a_spacemouse_in_the_gui_moves_the_part_and_an_unplugged_one_is_reported(self):
         import struct
         from PySide2 import QtWidgets
-        from HapticGrasp import _hapticgrasp as core
+        from freecad.hapticgrasp import _hapticgrasp as core
         doc, cylinder = self._cylinder_doc("HapticGraspSpaceMouse")
         before = App.Placement(cylinder.Placement)
         controller = hgui._HapticGraspController
@@ -692,7 +693,7 @@ class HapticGraspGui(unittest.TestCase):
         # A three-fingertip device: the third sphere and its force arrow appear, the
         # fourth and fifth stay hidden; two fingertips again hide the third.
         from pivy import coin
-        from HapticGrasp import overlay as hoverlay
+        from freecad.hapticgrasp import overlay as hoverlay
         doc = App.newDocument("HapticGraspOverlay3")
         overlay = hoverlay.HapticOverlay(Gui.ActiveDocument.ActiveView)
         try:
@@ -771,7 +772,7 @@ class ReviewPanelGui(unittest.TestCase):
 
     def test_playback_moves_the_view_only_and_apply_is_one_undo_step(self):
         from PySide2 import QtCore, QtWidgets
-        from HapticGrasp import review_panel
+        from freecad.hapticgrasp import review_panel
         Gui.activateWorkbench("HapticGraspWorkbench")
         self.assertIsNotNone(Gui.Command.get("HapticGrasp_Review"))
         doc, cylinder, path = self._record()
@@ -839,7 +840,7 @@ class ReviewPanelGui(unittest.TestCase):
         the test: a recording opens the panel; a file that is not one is named in an error
         box and opens nothing."""
         from PySide import QtGui   # the shim review_panel uses
-        from HapticGrasp import review_panel
+        from freecad.hapticgrasp import review_panel
         doc, _cylinder, path = self._record()
         bad = os.path.join(self.dir, "not-a-recording.mcap")
         with open(bad, "w") as f:

@@ -1,3 +1,17 @@
 """HapticGrasp FreeCAD workbench: feel, grasp and move parts with a haptic device.
 
-The compiled core is `_hapticgrasp` (next to this file); `session` is the document glue."""
+An addon in FreeCAD's namespace-package layout: <Mod>/HapticGrasp/freecad/hapticgrasp/ is
+imported as `freecad.hapticgrasp`; FreeCAD imports its `init` (freecadcmd and GUI) and
+`init_gui` (GUI) modules at start-up. The compiled core is `_hapticgrasp` (next to this
+file); `session` is the document glue. Nothing here imports FreeCAD: report.py runs
+without it."""
+import os
+
+PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
+ICON_DIR = os.path.join(PACKAGE_DIR, "resources", "icons")
+TRANSLATIONS_DIR = os.path.join(PACKAGE_DIR, "resources", "translations")
+
+
+def icon(name):
+    """The full path of the package's icon `name` (an SVG in resources/icons)."""
+    return os.path.join(ICON_DIR, name)

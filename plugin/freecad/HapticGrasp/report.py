@@ -19,10 +19,10 @@ import sys
 
 
 def _module():
-    here = os.path.dirname(os.path.abspath(__file__))
-    if here not in sys.path:
-        sys.path.insert(0, here)
-    import _hapticgrasp
+    try:
+        from . import _hapticgrasp   # imported as freecad.hapticgrasp.report
+    except ImportError:   # run as a script: Python put this file's folder first on sys.path
+        import _hapticgrasp
     return _hapticgrasp
 
 

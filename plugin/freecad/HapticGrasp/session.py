@@ -18,10 +18,7 @@ import time
 import FreeCAD as App
 import Part
 
-try:
-    from . import _hapticgrasp as core
-except ImportError:  # the Mod folder itself is on sys.path (FreeCAD adds it)
-    import _hapticgrasp as core
+from . import _hapticgrasp as core
 
 DEFAULT_DENSITY_KG_M3 = 1000.0
 DENSITY_PROPERTY = "HapticDensity"   # kg/m^3, per part (App::PropertyFloat)

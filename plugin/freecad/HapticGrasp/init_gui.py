@@ -1,0 +1,41 @@
+"""HapticGrasp, GUI part: FreeCAD imports `freecad.hapticgrasp.init_gui` once the GUI is up
+(FreeCADGuiInit.py, for every package in the `freecad` namespace). A real module, unlike a
+legacy InitGui.py: __file__ is defined and the workbench's methods see these imports."""
+import FreeCAD as App
+import FreeCADGui as Gui
+
+from freecad import hapticgrasp
+
+
+class HapticGraspWorkbench(Gui.Workbench):
+    MenuText = "HapticGrasp"
+    ToolTip = "Feel, grasp and move parts with a haptic device"
+
+    def Initialize(self):
+        from freecad.hapticgrasp import gui
+        commands = gui.register()
+        self.appendToolbar("HapticGrasp", commands)
+        self.appendMenu("HapticGrasp", commands)
+
+    def Activated(self):
+        pass
+
+    def Deactivated(self):
+        pass
+
+    def GetClassName(self):
+        return "Gui::PythonWorkbench"
+
+
+def _add_preferences_page():
+    """The preferences page "Haptic Grasp" (force parameters), available before the
+    workbench is activated; a failure leaves the workbench usable."""
+    try:
+        from freecad.hapticgrasp import prefs
+        Gui.addPreferencePage(prefs.HapticGraspPreferences, "Haptic Grasp")
+    except Exception as e:
+        App.Console.PrintWarning("HapticGrasp: no preferences page: %s\n" % e)
+
+
+Gui.addWorkbench(HapticGraspWorkbench())
+_add_preferences_page()
