@@ -725,6 +725,108 @@ class HapticGraspGui(unittest.TestCase):
         return search.getPaths().getLength()
 
 
+COMMANDS = ("HapticGrasp_Start", "HapticGrasp_Stop", "HapticGrasp_MarkGraspable", "HapticGrasp_SplitSolids",
+            "HapticGrasp_Review")
+
+
+def svg_view_box(path):
+    """The viewBox of an SVG file, as four floats (the SVG is parsed: it must be well formed)."""
+    import xml.etree.ElementTree as ElementTree
+    root = ElementTree.parse(path).getroot()
+    return tuple(float(v) for v in root.get("viewBox", "").split())
+
+
+def draw_svg(path, size):
+    """The SVG drawn into a transparent size x size QImage, as FreeCAD draws icons."""
+    from PySide import QtCore, QtGui, QtSvg
+    image = QtGui.QImage(size, size, QtGui.QImage.Format_ARGB32_Premultiplied)
+    image.fill(QtCore.Qt.transparent)
+    painter = QtGui.QPainter(image)
+    QtSvg.QSvgRenderer(path).render(painter)
+    painter.end()
+    return image
+
+
+def likeness(image, other, tolerance=8):
+    """The share of pixels two QImages of one size have alike (RGBA within tolerance)."""
+    if image.size() != other.size():
+        return 0.0
+    alike = 0
+    for y in range(image.height()):
+        for x in range(image.width()):
+            a, b = image.pixelColor(x, y), other.pixelColor(x, y)
+            alike += max(abs(a.red() - b.red()), abs(a.green() - b.green()), abs(a.blue() - b.blue()),
+                         abs(a.alpha() - b.alpha())) <= tolerance
+    return alike / float(image.width() * image.height())
+
+
+class WorkbenchConventions(unittest.TestCase):
+    """Icons and shortcuts as FreeCAD's own workbenches have them: the workbench, each
+    command and the preferences group show an SVG icon from the package, and each command
+    has a two-key shortcut no command of the loaded workbenches has."""
+
+    def setUp(self):
+        Gui.activateWorkbench("HapticGraspWorkbench")
+
+    def assert_svg_icon(self, path):
+        from PySide import QtSvg
+        self.assertTrue(os.path.isfile(path), path)
+        self.assertTrue(os.path.realpath(path).startswith(os.path.realpath(hgui.icon(""))), path)
+        self.assertEqual(svg_view_box(path), (0.0, 0.0, 64.0, 64.0), path)
+        self.assertTrue(QtSvg.QSvgRenderer(path).isValid(), path)
+
+    def test_the_workbench_and_every_command_show_an_svg_icon_of_the_package(self):
+        self.assertIn("freecad.hapticgrasp.init_gui", sys.modules)   # FreeCAD imported it at start-up
+        self.assert_svg_icon(Gui.getWorkbench("HapticGraspWorkbench").Icon)
+        for name in COMMANDS:
+            command = Gui.Command.get(name)
+            self.assert_svg_icon(command.getInfo()["pixmap"])
+            actions = command.getAction()
+            self.assertTrue(actions, name)
+            self.assertFalse(actions[0].icon().isNull(), name)
+
+    def test_every_command_has_its_own_two_key_shortcut(self):
+        # Draft has "H, A" and "H, S", the Sketcher single letters: load them and compare.
+        for workbench in ("PartWorkbench", "PartDesignWorkbench", "SketcherWorkbench", "DraftWorkbench"):
+            Gui.activateWorkbench(workbench)
+        Gui.activateWorkbench("HapticGraspWorkbench")
+        taken = {}
+        for name in Gui.Command.listAll():
+            shortcut = Gui.Command.get(name).getShortcut()
+            if shortcut:
+                taken.setdefault(shortcut, []).append(name)
+        self.assertIn("Draft_SubelementHighlight", taken.get("H, S", []))   # Draft's were loaded
+        for name in COMMANDS:
+            shortcut = Gui.Command.get(name).getShortcut()
+            self.assertEqual(shortcut, hgui.ACCELS[name])
+            self.assertRegex(shortcut, r"^H, [A-Z]$")
+            self.assertEqual(taken[shortcut], [name])
+
+    def test_the_preferences_group_has_its_icon(self):
+        # FreeCAD shows a "missing icon" picture for a group without one, never a null
+        # icon: compare what the dialog shows with the package's SVG drawn at that size.
+        from PySide import QtCore, QtGui
+        seen = {}
+
+        def inspect():   # runs inside the modal dialog's event loop
+            dialog = QtGui.QApplication.activeModalWidget()
+            try:
+                for listing in dialog.findChildren(QtGui.QListWidget):
+                    for row in range(listing.count()):
+                        item = listing.item(row)
+                        seen[item.text()] = item.icon().pixmap(48, 48).toImage()
+            finally:
+                dialog.reject()
+
+        QtCore.QTimer.singleShot(300, inspect)
+        Gui.runCommand("Std_DlgPreferences")
+        self.assertIn("Haptic Grasp", seen)
+        drawn = draw_svg(hgui.icon("preferences-haptic_grasp.svg"), 48)
+        print("preferences icons like the package's: %s" % {k: round(likeness(v, drawn), 3) for k, v in seen.items()})
+        self.assertLess(likeness(seen["General"], drawn), 0.9)   # FreeCAD's own group
+        self.assertGreater(likeness(seen["Haptic Grasp"], drawn), 0.98)
+
+
 class ReviewPanelGui(unittest.TestCase):
     """The Review panel in the real GUI: a session recorded on a saved document is played
     back by moving the part's view provider only (its root SoTransform shows the recorded

@@ -4,10 +4,25 @@ import FreeCAD as App
 import FreeCADGui as Gui
 from FreeCAD import Qt
 
+from . import icon
 from . import session as hs
 from . import sounds as hsounds
 
 QT_TRANSLATE_NOOP = Qt.QT_TRANSLATE_NOOP   # marks command texts for translation (FreeCAD's convention)
+
+# Shortcuts: FreeCAD's two-key style ("V, F" fits all, "G, L" a sketch line), H for haptics.
+# None is one of FreeCAD 0.20.2's default shortcuts (listed from every workbench but Path,
+# OpenSCAD and Web: Draft has "H, A" and "H, S"). The Sketcher's single "H" does not get in
+# the way: its action is disabled outside a sketch (measured: real X key presses H, M
+# marked the selection with the Sketcher workbench loaded before). TestHapticGraspGui
+# checks each against the commands of the workbenches it loads.
+ACCELS = {
+    "HapticGrasp_Start": "H, G",
+    "HapticGrasp_Stop": "H, X",
+    "HapticGrasp_MarkGraspable": "H, M",
+    "HapticGrasp_SplitSolids": "H, P",
+    "HapticGrasp_Review": "H, R",
+}
 
 
 class _HapticGraspController:
@@ -424,7 +439,8 @@ def _wheel_filter(events):
 
 class _StartCommand:
     def GetResources(self):
-        return {"MenuText": "Start haptics", "ToolTip": "Start the servo loop and grasp parts with the device"}
+        return {"Pixmap": icon("HapticGrasp_Start.svg"), "Accel": ACCELS["HapticGrasp_Start"],
+                "MenuText": "Start haptics", "ToolTip": "Start the servo loop and grasp parts with the device"}
 
     def IsActive(self):
         return App.ActiveDocument is not None and _HapticGraspController.session is None
@@ -435,7 +451,8 @@ class _StartCommand:
 
 class _StopCommand:
     def GetResources(self):
-        return {"MenuText": "Stop haptics", "ToolTip": "Stop the servo loop"}
+        return {"Pixmap": icon("HapticGrasp_Stop.svg"), "Accel": ACCELS["HapticGrasp_Stop"],
+                "MenuText": "Stop haptics", "ToolTip": "Stop the servo loop"}
 
     def IsActive(self):
         return _HapticGraspController.session is not None
@@ -449,7 +466,8 @@ class _MarkGraspableCommand:
     all are marked already. Once any part is marked, only marked parts are handed in."""
 
     def GetResources(self):
-        return {"MenuText": "Mark graspable",
+        return {"Pixmap": icon("HapticGrasp_MarkGraspable.svg"), "Accel": ACCELS["HapticGrasp_MarkGraspable"],
+                "MenuText": "Mark graspable",
                 "ToolTip": "Mark the selected parts graspable (or unmark them); once any part is marked, "
                            "haptics hand in only the marked parts"}
 
@@ -477,7 +495,8 @@ class _SplitSolidsCommand:
     one undo step; the originals are hidden, not deleted (session.split_solids)."""
 
     def GetResources(self):
-        return {"MenuText": QT_TRANSLATE_NOOP("HapticGrasp_SplitSolids", "Split into solids"),
+        return {"Pixmap": icon("HapticGrasp_SplitSolids.svg"), "Accel": ACCELS["HapticGrasp_SplitSolids"],
+                "MenuText": QT_TRANSLATE_NOOP("HapticGrasp_SplitSolids", "Split into solids"),
                 "ToolTip": QT_TRANSLATE_NOOP("HapticGrasp_SplitSolids",
                                              "Make one object per solid of the selected objects (the originals "
                                              "are hidden), so that each solid can be grasped on its own")}
@@ -502,7 +521,8 @@ class _ReviewCommand:
     Refused while a live session runs: both would move the parts and draw the hand."""
 
     def GetResources(self):
-        return {"MenuText": QT_TRANSLATE_NOOP("HapticGrasp_Review", "Review a recording\u2026"),
+        return {"Pixmap": icon("HapticGrasp_Review.svg"), "Accel": ACCELS["HapticGrasp_Review"],
+                "MenuText": QT_TRANSLATE_NOOP("HapticGrasp_Review", "Review a recording\u2026"),
                 "ToolTip": QT_TRANSLATE_NOOP("HapticGrasp_Review",
                                              "Play a recorded session back on the document's parts, jump to its "
                                              "events and notes, and apply the pose at any moment (one undo step)")}

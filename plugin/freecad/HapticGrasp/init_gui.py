@@ -10,6 +10,7 @@ from freecad import hapticgrasp
 class HapticGraspWorkbench(Gui.Workbench):
     MenuText = "HapticGrasp"
     ToolTip = "Feel, grasp and move parts with a haptic device"
+    Icon = hapticgrasp.icon("HapticGraspWorkbench.svg")
 
     def Initialize(self):
         from freecad.hapticgrasp import gui
@@ -29,7 +30,9 @@ class HapticGraspWorkbench(Gui.Workbench):
 
 def _add_preferences_page():
     """The preferences page "Haptic Grasp" (force parameters), available before the
-    workbench is activated; a failure leaves the workbench usable."""
+    workbench is activated; a failure leaves the workbench usable. Its group's icon is
+    looked up by name (preferences-haptic_grasp.svg) in the icon paths."""
+    Gui.addIconPath(hapticgrasp.ICON_DIR)
     try:
         from freecad.hapticgrasp import prefs
         Gui.addPreferencePage(prefs.HapticGraspPreferences, "Haptic Grasp")
