@@ -2220,6 +2220,38 @@ class AddonLayout(unittest.TestCase):
         self.assertIsNone(importlib.util.find_spec("_hapticgrasp"))
         self.assertNotIn("HapticGrasp", sys.modules)
 
+    def test_package_xml_holds_what_freecad_and_the_addon_manager_read(self):
+        import re
+        import xml.etree.ElementTree as ElementTree
+        import freecad.hapticgrasp as package
+        addon = os.path.dirname(os.path.dirname(package.PACKAGE_DIR))
+        path = os.path.join(addon, "package.xml")
+        root = ElementTree.parse(path).getroot()   # well-formed
+        self.assertEqual(root.tag, "{https://wiki.freecad.org/Package_Metadata}package")
+        self.assertEqual(root.get("format"), "1")
+        meta = App.Metadata(path)   # FreeCAD's own reader, as at start-up and in the Addon Manager
+        self.assertEqual(meta.Name, "HapticGrasp")
+        self.assertTrue(meta.Description)
+        self.assertRegex(meta.Version, r"^\d+\.\d+\.\d+$")
+        self.assertTrue(meta.Maintainer and meta.Maintainer[0]["name"] and "@" in meta.Maintainer[0]["email"])
+        self.assertTrue(meta.License and meta.License[0]["name"])
+        self.assertEqual([u["type"] for u in meta.Urls], ["repository"])
+        self.assertTrue(os.path.isfile(os.path.join(addon, meta.Icon)), meta.Icon)
+        self.assertEqual(meta.FreeCADMin, "0.20.0")
+        self.assertTrue(meta.supportsCurrentFreeCAD())
+        [workbench] = meta.Content["workbench"]
+        self.assertEqual(workbench.Classname, "HapticGraspWorkbench")   # init_gui's class
+        self.assertEqual(workbench.FreeCADMin, "0.20.0")
+        self.assertTrue(workbench.supportsCurrentFreeCAD())
+        # FreeCAD runs <subdirectory>/InitGui.py if there is one: the namespace package must
+        # be the only way in, or the workbench would be registered twice.
+        folder = os.path.join(addon, workbench.Subdirectory)
+        self.assertTrue(os.path.isdir(folder))
+        self.assertFalse(os.path.exists(os.path.join(folder, "InitGui.py")))
+        self.assertFalse(os.path.exists(os.path.join(folder, "Init.py")))
+        self.assertTrue(os.path.isfile(os.path.join(folder, workbench.Icon)), workbench.Icon)
+        self.assertTrue(re.search(r"<svg\b", open(os.path.join(addon, meta.Icon)).read()))
+
     def test_report_py_runs_as_a_script_beside_the_core(self):
         # What `hapticgrasp report` does: the script's folder is sys.path[0], so the core
         # imports; a missing file is then refused by the core's reader (exit 2), not by an
