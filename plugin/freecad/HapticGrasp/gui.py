@@ -8,7 +8,8 @@ from . import icon
 from . import session as hs
 from . import sounds as hsounds
 
-QT_TRANSLATE_NOOP = Qt.QT_TRANSLATE_NOOP   # marks command texts for translation (FreeCAD's convention)
+QT_TRANSLATE_NOOP = Qt.QT_TRANSLATE_NOOP   # marks command texts for translation (FreeCAD's convention:
+translate = Qt.translate                   # context = the command's name), translate() what dialogs show
 
 # Shortcuts: FreeCAD's two-key style ("V, F" fits all, "G, L" a sketch line), H for haptics.
 # None is one of FreeCAD 0.20.2's default shortcuts (listed from every workbench but Path,
@@ -166,7 +167,7 @@ class _HapticGraspController:
             else:
                 session.use_hid(cls.device_layout, path, origin=box.Center)
         except (RuntimeError, ValueError) as e:   # core.DeviceError / core.LayoutError
-            text = "cannot use %s: %s" % (path, e)
+            text = translate("HapticGrasp", "Cannot use %s: %s") % (path, e)
             App.Console.PrintError("HapticGrasp: %s\n" % text)
             cls.show_panel()
             if cls.panel is not None:
@@ -243,8 +244,8 @@ class _HapticGraspController:
             return
         mark = session.mark_note()   # the moment N was pressed, not when the note is typed
         from PySide import QtGui   # FreeCAD's shim
-        text, ok = QtGui.QInputDialog.getText(Gui.getMainWindow(), Qt.translate("HapticGrasp", "Add note"),
-                                              Qt.translate("HapticGrasp", "Note for the reviewer:"))
+        text, ok = QtGui.QInputDialog.getText(Gui.getMainWindow(), translate("HapticGrasp", "Add note"),
+                                              translate("HapticGrasp", "Note for the reviewer:"))
         if not ok or cls.session is not session or not session.running:
             return   # cancelled, or the session ended while the dialog was open
         try:
@@ -440,7 +441,9 @@ def _wheel_filter(events):
 class _StartCommand:
     def GetResources(self):
         return {"Pixmap": icon("HapticGrasp_Start.svg"), "Accel": ACCELS["HapticGrasp_Start"],
-                "MenuText": "Start haptics", "ToolTip": "Start the servo loop and grasp parts with the device"}
+                "MenuText": QT_TRANSLATE_NOOP("HapticGrasp_Start", "Start haptics"),
+                "ToolTip": QT_TRANSLATE_NOOP("HapticGrasp_Start",
+                                             "Start the servo loop and grasp parts with the device")}
 
     def IsActive(self):
         return App.ActiveDocument is not None and _HapticGraspController.session is None
@@ -452,7 +455,8 @@ class _StartCommand:
 class _StopCommand:
     def GetResources(self):
         return {"Pixmap": icon("HapticGrasp_Stop.svg"), "Accel": ACCELS["HapticGrasp_Stop"],
-                "MenuText": "Stop haptics", "ToolTip": "Stop the servo loop"}
+                "MenuText": QT_TRANSLATE_NOOP("HapticGrasp_Stop", "Stop haptics"),
+                "ToolTip": QT_TRANSLATE_NOOP("HapticGrasp_Stop", "Stop the servo loop")}
 
     def IsActive(self):
         return _HapticGraspController.session is not None
@@ -467,9 +471,10 @@ class _MarkGraspableCommand:
 
     def GetResources(self):
         return {"Pixmap": icon("HapticGrasp_MarkGraspable.svg"), "Accel": ACCELS["HapticGrasp_MarkGraspable"],
-                "MenuText": "Mark graspable",
-                "ToolTip": "Mark the selected parts graspable (or unmark them); once any part is marked, "
-                           "haptics hand in only the marked parts"}
+                "MenuText": QT_TRANSLATE_NOOP("HapticGrasp_MarkGraspable", "Mark graspable"),
+                "ToolTip": QT_TRANSLATE_NOOP("HapticGrasp_MarkGraspable",
+                                             "Mark the selected parts graspable (or unmark them); once any part is "
+                                             "marked, haptics hand in only the marked parts")}
 
     def IsActive(self):
         return App.ActiveDocument is not None and bool(Gui.Selection.getSelection())
@@ -482,7 +487,8 @@ class _MarkGraspableCommand:
             return
         on = not all(hs.is_graspable(o) for o in objects)
         doc = objects[0].Document
-        doc.openTransaction("Mark graspable" if on else "Unmark graspable")
+        doc.openTransaction(translate("HapticGrasp", "Mark graspable") if on
+                            else translate("HapticGrasp", "Unmark graspable"))
         hs.set_graspable(objects, on)
         doc.commitTransaction()
         App.Console.PrintMessage("HapticGrasp: %s %s\n" % ("marked graspable:" if on else "unmarked:",
@@ -522,7 +528,7 @@ class _ReviewCommand:
 
     def GetResources(self):
         return {"Pixmap": icon("HapticGrasp_Review.svg"), "Accel": ACCELS["HapticGrasp_Review"],
-                "MenuText": QT_TRANSLATE_NOOP("HapticGrasp_Review", "Review a recording\u2026"),
+                "MenuText": QT_TRANSLATE_NOOP("HapticGrasp_Review", "Review a recording…"),
                 "ToolTip": QT_TRANSLATE_NOOP("HapticGrasp_Review",
                                              "Play a recorded session back on the document's parts, jump to its "
                                              "events and notes, and apply the pose at any moment (one undo step)")}
@@ -535,17 +541,22 @@ class _ReviewCommand:
         review_panel.run_command(_HapticGraspController)
 
 
+# The workbench's commands, in toolbar and menu order: name -> class.
+COMMANDS = {
+    "HapticGrasp_Start": _StartCommand,
+    "HapticGrasp_Stop": _StopCommand,
+    "HapticGrasp_MarkGraspable": _MarkGraspableCommand,
+    "HapticGrasp_SplitSolids": _SplitSolidsCommand,
+    "HapticGrasp_Review": _ReviewCommand,
+}
 _registered = False
 
 
 def register():
+    """Adds the commands to FreeCAD (once); returns their names."""
     global _registered
     if not _registered:
-        Gui.addCommand("HapticGrasp_Start", _StartCommand())
-        Gui.addCommand("HapticGrasp_Stop", _StopCommand())
-        Gui.addCommand("HapticGrasp_MarkGraspable", _MarkGraspableCommand())
-        Gui.addCommand("HapticGrasp_SplitSolids", _SplitSolidsCommand())
-        Gui.addCommand("HapticGrasp_Review", _ReviewCommand())
+        for name, command in COMMANDS.items():
+            Gui.addCommand(name, command())
         _registered = True
-    return ["HapticGrasp_Start", "HapticGrasp_Stop", "HapticGrasp_MarkGraspable", "HapticGrasp_SplitSolids",
-            "HapticGrasp_Review"]
+    return list(COMMANDS)

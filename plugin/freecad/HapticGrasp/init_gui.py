@@ -7,9 +7,16 @@ import FreeCADGui as Gui
 from freecad import hapticgrasp
 
 
+# The translations (resources/translations/HapticGrasp_<language>.qm, from the template
+# HapticGrasp.ts) are loaded for FreeCAD's language, as FreeCAD's addons do: before anything
+# below is translated.
+Gui.addLanguagePath(hapticgrasp.TRANSLATIONS_DIR)
+Gui.updateLocale()
+
+
 class HapticGraspWorkbench(Gui.Workbench):
-    MenuText = "HapticGrasp"
-    ToolTip = "Feel, grasp and move parts with a haptic device"
+    MenuText = "HapticGrasp"   # the name, not translated
+    ToolTip = App.Qt.translate("HapticGrasp", "Feel, grasp and move parts with a haptic device")
     Icon = hapticgrasp.icon("HapticGraspWorkbench.svg")
 
     def Initialize(self):

@@ -2,15 +2,37 @@
 grasping force, servo rate and jitter, the recording, Start/Stop and Add note (N). Filled from the controller's timer tick."""
 import time
 
-NOT_EXPOSED = "n/a (not in the core snapshot)"
+from FreeCAD import Qt
+
+translate = Qt.translate                   # what the user reads goes through these (FreeCAD's
+QT_TRANSLATE_NOOP = Qt.QT_TRANSLATE_NOOP   # convention; pylupdate5 collects them)
+
+NOT_EXPOSED = QT_TRANSLATE_NOOP("HapticGrasp", "n/a (not in the core snapshot)")
 
 # The built-in inputs: (key, title, the core's Session method that binds the device).
 DEVICES = (
-    ("demo", "Demo script", "set_hand_script"),
-    ("mouse", "Mouse and keyboard", "use_hand_input"),
-    ("arm", "Simulated arm (mouse + keyboard)", "use_simulated_arm"),
+    ("demo", QT_TRANSLATE_NOOP("HapticGrasp", "Demo script"), "set_hand_script"),
+    ("mouse", QT_TRANSLATE_NOOP("HapticGrasp", "Mouse and keyboard"), "use_hand_input"),
+    ("arm", QT_TRANSLATE_NOOP("HapticGrasp", "Simulated arm (mouse + keyboard)"), "use_simulated_arm"),
 )
-NO_HID = "SpaceMouse / HID: none attached"
+NO_HID = QT_TRANSLATE_NOOP("HapticGrasp", "SpaceMouse / HID: none attached")
+
+# The read-outs: (key, label).
+FIELDS = (
+    ("device", QT_TRANSLATE_NOOP("HapticGrasp", "Device:")),
+    ("state", QT_TRANSLATE_NOOP("HapticGrasp", "State:")),
+    ("part", QT_TRANSLATE_NOOP("HapticGrasp", "Grasped part:")),
+    ("index", QT_TRANSLATE_NOOP("HapticGrasp", "Index force:")),
+    ("thumb", QT_TRANSLATE_NOOP("HapticGrasp", "Thumb force:")),
+    ("grip", QT_TRANSLATE_NOOP("HapticGrasp", "Grasping force:")),
+    ("rate", QT_TRANSLATE_NOOP("HapticGrasp", "Servo rate:")),
+    ("jitter", QT_TRANSLATE_NOOP("HapticGrasp", "Servo jitter:")),
+    ("time", QT_TRANSLATE_NOOP("HapticGrasp", "Servo time:")),
+    ("moves", QT_TRANSLATE_NOOP("HapticGrasp", "Moves / faults:")),
+    ("models", QT_TRANSLATE_NOOP("HapticGrasp", "Exact models:")),
+    ("sound", QT_TRANSLATE_NOOP("HapticGrasp", "Sound:")),
+    ("recording", QT_TRANSLATE_NOOP("HapticGrasp", "Recording:")),
+)
 
 
 def available_devices(core_session_class):
@@ -24,9 +46,11 @@ def hid_choices(devices):
     out = []
     for d in devices:
         if d["backend"] == "spacemouse":
-            out.append(("spacemouse:" + d["path"], "SpaceMouse %s (%s)" % (d["model"], d["path"]), ""))
+            out.append(("spacemouse:" + d["path"], translate("HapticGrasp", "SpaceMouse %s (%s)")
+                        % (d["model"], d["path"]), ""))
         elif d["backend"] == "layout":
-            out.append(("hid:" + d["path"], "HID: %s (%s)" % (d["model"], d["path"]), d["layout"]))
+            out.append(("hid:" + d["path"], translate("HapticGrasp", "HID: %s (%s)") % (d["model"], d["path"]),
+                        d["layout"]))
     return out
 
 
@@ -36,10 +60,11 @@ def hid_message(devices, problems):
     lines = []
     usable = hid_choices(devices)
     if not devices:
-        lines.append("No SpaceMouse or HID device attached (plug one in, then reopen this panel).")
+        lines.append(translate("HapticGrasp", "No SpaceMouse or HID device attached (plug one in, then reopen "
+                                              "this panel)."))
     elif not usable:
-        lines.append("%d HID device(s) attached, none a SpaceMouse or matched by a layout in "
-                     "<FreeCAD user data>/HapticGrasp/devices/." % len(devices))
+        lines.append(translate("HapticGrasp", "%d HID device(s) attached, none a SpaceMouse or matched by a layout "
+                                              "in <FreeCAD user data>/HapticGrasp/devices/.") % len(devices))
     lines.extend(problems)
     return "\n".join(lines)
 
@@ -92,13 +117,16 @@ class HapticTaskPanel:
         grid = QtGui.QFormLayout()
         self.device_combo = QtGui.QComboBox()
         self.device_combo.setObjectName("HapticGrasp_DeviceCombo")
-        self.device_combo.setToolTip("Mouse and keyboard: move the mouse to move the hand in the view "
-                                     "plane, wheel for depth, hold G to pinch, Esc cancels. Simulated arm: "
-                                     "the same keys move the target of a simulated operator who drives the "
-                                     "simulated master arm; the grasp feels the arm's fingertips")
+        self.device_combo.setToolTip(translate("HapticGrasp", "Mouse and keyboard: move the mouse to move the hand "
+                                               "in the view plane, wheel for depth, hold G to pinch, Esc cancels. "
+                                               "Simulated arm: the same keys move the target of a simulated "
+                                               "operator who drives the simulated master arm; the grasp feels the "
+                                               "arm's fingertips"))
         from . import session as hs
         for key, title, available in available_devices(hs.core.Session):
-            self.device_combo.addItem(title if available else title + " (not available in this build)", key)
+            title = translate("HapticGrasp", title)
+            self.device_combo.addItem(title if available else translate("HapticGrasp", "%s (not available in this "
+                                                                                       "build)") % title, key)
             if not available:
                 self.device_combo.model().item(self.device_combo.count() - 1).setEnabled(False)
         # The HID devices actually attached (SpaceMouse, or matched by a layout).
@@ -109,13 +137,14 @@ class HapticTaskPanel:
             self.device_combo.addItem(title, key)
             self.layouts[key] = layout_file
         if not choices:
-            self.device_combo.addItem(NO_HID, "")
+            self.device_combo.addItem(translate("HapticGrasp", NO_HID), "")
             self.device_combo.model().item(self.device_combo.count() - 1).setEnabled(False)
         current = getattr(controller, "device", "demo")
         chosen = self.device_combo.findData(current)
         if chosen < 0 and current.startswith(("spacemouse:", "hid:")):
             # Picked before, not attached now: shown as such (Start says why it cannot open).
-            self.device_combo.addItem("%s (not attached)" % current.split(":", 1)[1], current)
+            self.device_combo.addItem(translate("HapticGrasp", "%s (not attached)") % current.split(":", 1)[1],
+                                      current)
             self.layouts[current] = getattr(controller, "device_layout", "")
             chosen = self.device_combo.count() - 1
         self.device_combo.setCurrentIndex(max(0, chosen))
@@ -124,37 +153,33 @@ class HapticTaskPanel:
         elif current in self.layouts:
             controller.device_layout = self.layouts[current]
         self.device_combo.currentIndexChanged.connect(self._device_changed)
-        grid.addRow("Input:", self.device_combo)
+        grid.addRow(translate("HapticGrasp", "Input:"), self.device_combo)
         self.message = QtGui.QLabel(hid_message(devices, problems))
         self.message.setObjectName("HapticGrasp_message")
         self.message.setWordWrap(True)
         self.message.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)   # the udev rule can be copied
         grid.addRow(self.message)
         self.fields = {}
-        for key, title in (("device", "Device"), ("state", "State"), ("part", "Grasped part"),
-                           ("index", "Index force"), ("thumb", "Thumb force"), ("grip", "Grasping force"),
-                           ("rate", "Servo rate"), ("jitter", "Servo jitter"), ("time", "Servo time"),
-                           ("moves", "Moves / faults"), ("models", "Exact models"), ("sound", "Sound"),
-                           ("recording", "Recording")):
+        for key, title in FIELDS:
             label = QtGui.QLabel("-")
             label.setObjectName("HapticGrasp_" + key)
-            grid.addRow(title + ":", label)
+            grid.addRow(translate("HapticGrasp", title), label)
             self.fields[key] = label
         layout.addLayout(grid)
         buttons = QtGui.QHBoxLayout()
-        self.start_button = QtGui.QPushButton("Start")
+        self.start_button = QtGui.QPushButton(translate("HapticGrasp", "Start"))
         self.start_button.setObjectName("HapticGrasp_StartButton")
-        self.stop_button = QtGui.QPushButton("Stop")
+        self.stop_button = QtGui.QPushButton(translate("HapticGrasp", "Stop"))
         self.stop_button.setObjectName("HapticGrasp_StopButton")
         self.start_button.clicked.connect(self._start)
         self.stop_button.clicked.connect(self._stop)
         buttons.addWidget(self.start_button)
         buttons.addWidget(self.stop_button)
         layout.addLayout(buttons)
-        self.note_button = QtGui.QPushButton("Add note")
+        self.note_button = QtGui.QPushButton(translate("HapticGrasp", "Add note"))
         self.note_button.setObjectName("HapticGrasp_NoteButton")
-        self.note_button.setToolTip("A short note for the reviewer, in the recording at this moment, about the part "
-                                    "under the hand (N)")
+        self.note_button.setToolTip(translate("HapticGrasp", "A short note for the reviewer, in the recording at "
+                                              "this moment, about the part under the hand (N)"))
         self.note_button.setShortcut(QtGui.QKeySequence("N"))   # a window shortcut: works over the 3D view
         self.note_button.clicked.connect(lambda: self.controller.add_note())
         layout.addWidget(self.note_button)
@@ -206,7 +231,7 @@ class HapticTaskPanel:
         if running:
             self.rate = RateMeter()
         else:
-            self.fields["state"].setText("stopped")
+            self.fields["state"].setText(translate("HapticGrasp", "stopped"))
 
     # --- model build progress ---------------------------------------------------------
     def _add_build_row(self, layout):
@@ -216,8 +241,8 @@ class HapticTaskPanel:
         self.build_label.setObjectName("HapticGrasp_BuildLabel")
         self.build_bar = QtGui.QProgressBar()
         self.build_bar.setObjectName("HapticGrasp_BuildProgress")
-        self.build_bar.setFormat("%v / %m parts")
-        self.cancel_button = QtGui.QPushButton("Cancel")
+        self.build_bar.setFormat(translate("HapticGrasp", "%v / %m parts"))
+        self.cancel_button = QtGui.QPushButton(translate("HapticGrasp", "Cancel"))
         self.cancel_button.setObjectName("HapticGrasp_CancelBuildButton")
         self.cancel_button.clicked.connect(lambda: self.controller.cancel_build())
         row = QtGui.QHBoxLayout()
@@ -239,13 +264,15 @@ class HapticTaskPanel:
             self.device_combo.setEnabled(False)
             self.start_button.setEnabled(False)
             self.stop_button.setEnabled(True)
-            self.fields["state"].setText("building models")
+            self.fields["state"].setText(translate("HapticGrasp", "building models"))
 
     def show_build(self, done, total, current):
         self.build_bar.setMaximum(max(1, total))
         self.build_bar.setValue(done)
-        self.build_label.setText("Building %s (%d of %d)" % (current, done + 1, total) if current
-                                 else "Built %d of %d parts" % (done, total))
+        if current:
+            self.build_label.setText(translate("HapticGrasp", "Building %s (%d of %d)") % (current, done + 1, total))
+        else:
+            self.build_label.setText(translate("HapticGrasp", "Built %d of %d parts") % (done, total))
 
     def show_rebuild(self, session):
         """A part edited while running: its model being rebuilt (no Cancel: Stop stops)."""
@@ -254,7 +281,7 @@ class HapticTaskPanel:
                 self.build_label.setVisible(False)
             return
         names = ", ".join(label for _build, label in session.rebuilds.values())
-        self.build_label.setText("Rebuilding %s (swapped in when no part is held)" % names)
+        self.build_label.setText(translate("HapticGrasp", "Rebuilding %s (swapped in when no part is held)") % names)
         self.build_label.setVisible(True)
 
     def show_recording(self, session):
@@ -269,34 +296,38 @@ class HapticTaskPanel:
         f = self.fields
         fault = snap.get("fault", "none")
         f["device"].setText(session.core.device_name)
-        f["state"].setText(snap["state"] + ("" if fault == "none" else "  (fault: %s)" % fault))
+        f["state"].setText(snap["state"] + ("" if fault == "none" else "  " + translate("HapticGrasp", "(fault: %s)")
+                                                                             % fault))
         grasped = snap.get("grasped", -1)
         f["part"].setText(session.parts[grasped].label if 0 <= grasped < len(session.parts) else "-")
         forces = snap.get("forces")   # not exposed by the binding yet: shown as such
         if forces is not None:
             import FreeCAD as App
             felt = getattr(session.core, "device_force_output", True)
-            note = "" if felt else "  (not displayed: input-only device)"
+            note = "" if felt else "  " + translate("HapticGrasp", "(not displayed: input-only device)")
             f["index"].setText(_vector_text(App.Vector(*forces[0])) + note)
             f["thumb"].setText(_vector_text(App.Vector(*forces[1])) + note)
         else:
-            f["index"].setText(NOT_EXPOSED)
-            f["thumb"].setText(NOT_EXPOSED)
+            f["index"].setText(translate("HapticGrasp", NOT_EXPOSED))
+            f["thumb"].setText(translate("HapticGrasp", NOT_EXPOSED))
         grip = snap.get("grasp_force_n")
-        f["grip"].setText("%.2f N" % grip if grip is not None else NOT_EXPOSED)
+        f["grip"].setText("%.2f N" % grip if grip is not None else translate("HapticGrasp", NOT_EXPOSED))
         rate = snap.get("rate_hz")
         if rate is None:
             measured = self.rate.update(snap.get("tick", 0))
-            f["rate"].setText("%.0f Hz (ticks / wall clock)" % measured if measured is not None else "measuring...")
+            f["rate"].setText(translate("HapticGrasp", "%.0f Hz (ticks / wall clock)") % measured
+                              if measured is not None else translate("HapticGrasp", "measuring…"))
         else:
             f["rate"].setText("%.0f Hz" % rate)
         jitter = snap.get("jitter_us")
-        f["jitter"].setText("%.1f us" % jitter if jitter is not None else NOT_EXPOSED)
+        f["jitter"].setText("%.1f µs" % jitter if jitter is not None else translate("HapticGrasp", NOT_EXPOSED))
         f["time"].setText("%.2f s (tick %d)" % (snap.get("time_s", 0.0), snap.get("tick", 0)))
         f["moves"].setText("%d / %d" % (session.moves, snap.get("faults", 0)))
         exact, parts = snap.get("exact_parts", 0), len(session.parts)
-        f["models"].setText("%d of %d parts" % (exact, parts) if exact >= parts
-                            else "%d of %d parts (the others felt as their boxes until built)" % (exact, parts))
+        f["models"].setText(translate("HapticGrasp", "%d of %d parts") % (exact, parts) if exact >= parts
+                            else translate("HapticGrasp", "%d of %d parts (the others felt as their boxes until "
+                                                          "built)") % (exact, parts))
         self.show_recording(session)
         if sounds is not None:
-            f["sound"].setText("on" if sounds.available else "silent (no audio output ready)")
+            f["sound"].setText(translate("HapticGrasp", "on") if sounds.available
+                               else translate("HapticGrasp", "silent (no audio output ready)"))

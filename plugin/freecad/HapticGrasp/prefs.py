@@ -1,18 +1,22 @@
 """The preferences page "Haptic Grasp" (Edit > Preferences): the grasp method, the force
 parameters of the two-finger grasp, SI, and whether sessions are recorded, stored in App.ParamGet(session.PARAMETER_PATH) and
 read by HapticSession.start().
-Registered from InitGui.py with Gui.addPreferencePage(HapticGraspPreferences, "Haptic Grasp");
+Registered from init_gui.py with Gui.addPreferencePage(HapticGraspPreferences, "Haptic Grasp");
 FreeCAD instantiates the class, shows `form` and calls loadSettings()/saveSettings()."""
+from FreeCAD import Qt
+
+translate = Qt.translate                   # what the user reads goes through these (FreeCAD's
+QT_TRANSLATE_NOOP = Qt.QT_TRANSLATE_NOOP   # convention; pylupdate5 collects them)
 
 # (key, label, unit, decimals, maximum, step)
 FIELDS = (
-    ("K_c", "Contact stiffness K_c", "N/m^0.5", 2, 1e7, 10.0),
-    ("B_c", "Contact damping B_c", "N s/m^1.5", 2, 1e7, 10.0),
-    ("K_g", "Grasp stiffness K_g", "N/m^0.5", 2, 1e7, 100.0),
-    ("B_g", "Grasp damping B_g", "N s/m^1.5", 2, 1e7, 100.0),
-    ("d_h", "Grasp hysteresis d_h", "m", 5, 0.1, 0.0005),
-    ("K_ox", "Holding stiffness K_ox", "N/m", 2, 1e7, 100.0),
-    ("K_oe", "Holding rotational stiffness K_oe", "N m/rad", 3, 1e6, 1.0),
+    ("K_c", QT_TRANSLATE_NOOP("HapticGrasp", "Contact stiffness K_c:"), "N/m^0.5", 2, 1e7, 10.0),
+    ("B_c", QT_TRANSLATE_NOOP("HapticGrasp", "Contact damping B_c:"), "N s/m^1.5", 2, 1e7, 10.0),
+    ("K_g", QT_TRANSLATE_NOOP("HapticGrasp", "Grasp stiffness K_g:"), "N/m^0.5", 2, 1e7, 100.0),
+    ("B_g", QT_TRANSLATE_NOOP("HapticGrasp", "Grasp damping B_g:"), "N s/m^1.5", 2, 1e7, 100.0),
+    ("d_h", QT_TRANSLATE_NOOP("HapticGrasp", "Grasp hysteresis d_h:"), "m", 5, 0.1, 0.0005),
+    ("K_ox", QT_TRANSLATE_NOOP("HapticGrasp", "Holding stiffness K_ox:"), "N/m", 2, 1e7, 100.0),
+    ("K_oe", QT_TRANSLATE_NOOP("HapticGrasp", "Holding rotational stiffness K_oe:"), "N m/rad", 3, 1e6, 1.0),
 )
 
 
@@ -21,23 +25,26 @@ class HapticGraspPreferences:
         from PySide import QtGui   # FreeCAD's shim: QtGui holds the widgets too
         self.form = QtGui.QWidget()
         self.form.setObjectName("HapticGraspPreferences")
-        self.form.setWindowTitle("Haptic Grasp")
+        self.form.setWindowTitle(translate("HapticGrasp", "Haptic Grasp"))
         layout = QtGui.QVBoxLayout(self.form)
         methods = QtGui.QFormLayout()
         self.method = QtGui.QComboBox()
         self.method.setObjectName("HapticGrasp_Pref_Method")
-        self.method.addItem("Two fingers: grasp state machine (Maekawa & Hollerbach)", "two-finger")
-        self.method.addItem("Multi-finger: grasping force kept apart from the resultant (every fingertip "
-                            "the device has)", "multi-finger")
-        methods.addRow("Grasp method:", self.method)
-        self.record = QtGui.QCheckBox("Record sessions")
+        self.method.addItem(translate("HapticGrasp", "Two fingers: grasp state machine (Maekawa & Hollerbach)"),
+                            "two-finger")
+        self.method.addItem(translate("HapticGrasp", "Multi-finger: grasping force kept apart from the resultant "
+                                                     "(every fingertip the device has)"), "multi-finger")
+        methods.addRow(translate("HapticGrasp", "Grasp method:"), self.method)
+        self.record = QtGui.QCheckBox(translate("HapticGrasp", "Record sessions"))
         self.record.setObjectName("HapticGrasp_Pref_Record")
-        self.record.setToolTip("Start records each session for review: <document folder>/<document name>.reviews/"
-                               "<date_time>.mcap (unsaved documents: ~/.local/share/HapticGrasp/reviews/). "
-                               "Nothing in the document changes.")
+        self.record.setToolTip(translate("HapticGrasp", "Start records each session for review: <document folder>/"
+                                                        "<document name>.reviews/<date_time>.mcap (unsaved documents: "
+                                                        "~/.local/share/HapticGrasp/reviews/). Nothing in the "
+                                                        "document changes."))
         methods.addRow(self.record)
         layout.addLayout(methods)
-        box = QtGui.QGroupBox("Force parameters (SI; the paper's K_c 130, B_c 100, K_g 1000, B_g 800)")
+        box = QtGui.QGroupBox(translate("HapticGrasp", "Force parameters (SI; the paper's K_c 130, B_c 100, "
+                                                       "K_g 1000, B_g 800)"))
         grid = QtGui.QFormLayout(box)
         self.spins = {}
         for key, label, unit, decimals, maximum, step in FIELDS:
@@ -47,15 +54,15 @@ class HapticGraspPreferences:
             spin.setRange(0.0, maximum)
             spin.setSingleStep(step)
             spin.setSuffix(" " + unit)
-            grid.addRow(label + ":", spin)
+            grid.addRow(translate("HapticGrasp", label), spin)
             self.spins[key] = spin
         layout.addWidget(box)
-        reset = QtGui.QPushButton("Defaults")
+        reset = QtGui.QPushButton(translate("HapticGrasp", "Defaults"))
         reset.setObjectName("HapticGrasp_Pref_Defaults")
         reset.clicked.connect(self.reset)
         layout.addWidget(reset)
         layout.addStretch(1)
-        note = QtGui.QLabel("Read when haptics start.")
+        note = QtGui.QLabel(translate("HapticGrasp", "Read when haptics start."))
         layout.addWidget(note)
 
     def _show(self, values):

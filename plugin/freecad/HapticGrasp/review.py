@@ -25,6 +25,7 @@ import Part
 from . import session as hs
 
 core = hs.core
+translate = App.Qt.translate   # the warnings and notes the Review panel shows
 
 APPLY_TRANSACTION = "Apply review pose"
 NOTE_PREFIX = "note: "
@@ -146,13 +147,14 @@ class Review:
                 if self.refs[i] is None and i not in taken:
                     self.refs[i] = refs[i]
                     taken.add(i)
-                    self.warnings.append("%s: not in the document by that name, matched to %s (the same place "
-                                         "in the order)" % (part["name"], refs[i].label))
+                    self.warnings.append(translate("HapticGrasp", "%s: not in the document by that name, matched to "
+                                                                  "%s (the same place in the order)")
+                                         % (part["name"], refs[i].label))
         for i, part in enumerate(self.parts):
             ref = self.refs[i]
             if ref is None:
                 self.missing.append(i)
-                self.warnings.append("%s: not in the document, not shown" % part["name"])
+                self.warnings.append(translate("HapticGrasp", "%s: not in the document, not shown") % part["name"])
                 continue
             if i in self.stand_ins:
                 continue   # said when it was made
@@ -162,18 +164,20 @@ class Review:
                 why = ["its shape cannot be read: %s" % e]
             if why:
                 self.changed.append(i)
-                self.warnings.append("%s: changed since the recording (%s); its recorded motion is shown on "
-                                     "the part as it is now" % (ref.label, "; ".join(why)))
+                self.warnings.append(translate("HapticGrasp", "%s: changed since the recording (%s); its recorded "
+                                                              "motion is shown on the part as it is now")
+                                     % (ref.label, "; ".join(why)))
             if i not in self.moved:
                 recorded = hs.to_placement(part["placement"])
                 if not hs.same_placement(ref.global_placement(), recorded, 1e-6):
                     self.displaced.append(i)
-                    self.warnings.append("%s: placed elsewhere in the document than in the recording: shown at "
-                                         "the recorded %s" % (ref.label, _placement_text(recorded)))
+                    self.warnings.append(translate("HapticGrasp", "%s: placed elsewhere in the document than in the "
+                                                                  "recording: shown at the recorded %s")
+                                         % (ref.label, _placement_text(recorded)))
         for k, ref in enumerate(refs):
             if k not in taken:
                 self.extra.append(ref)
-                self.warnings.append("%s: not in the recording, left where it is" % ref.label)
+                self.warnings.append(translate("HapticGrasp", "%s: not in the recording, left where it is") % ref.label)
         return self.warnings
 
     # --- the timeline -------------------------------------------------------------------
@@ -200,7 +204,7 @@ class Review:
         "fault" or "note"; notes' texts name their part and where the hand was."""
         items = [(t, text, "fault" if fault else "event") for t, text, fault in self.events]
         for t, text, part, (x, y, z) in self.annotations:
-            where = "hand at (%.0f, %.0f, %.0f) mm" % (x, y, z)
+            where = translate("HapticGrasp", "hand at (%.0f, %.0f, %.0f) mm") % (x, y, z)
             items.append((t, "%s (%s)" % (text, part + ", " + where if part else where), "note"))
         return sorted(items, key=lambda item: item[0])
 
@@ -251,8 +255,9 @@ class Review:
             return getattr(elements[ref.index], "ViewObject", None)
         if App.GuiUp and ref.label not in self._said_unpreviewable:
             self._said_unpreviewable.add(ref.label)
-            self.warnings.append("%s: an element of a link array whose elements are not shown as objects (Show "
-                                 "Element off): not moved by the preview; Apply still sets it" % ref.label)
+            self.warnings.append(translate("HapticGrasp", "%s: an element of a link array whose elements are not "
+                                                          "shown as objects (Show Element off): not moved by the "
+                                                          "preview; Apply still sets it") % ref.label)
         return None
 
     def preview(self, t):
@@ -333,7 +338,8 @@ def open_without_document(path, frame_rate_hz=60.0):
         try:
             shape = _part_shape(review.track, i, part)
         except Exception as e:
-            review.recording_warnings.append("%s: its recorded shape cannot be read (%s)" % (part["name"], e))
+            review.recording_warnings.append(translate("HapticGrasp", "%s: its recorded shape cannot be read (%s)")
+                                             % (part["name"], e))
         if shape is None or shape.isNull():
             (x0, y0, z0), (x1, y1, z1) = part["bounds_mm"]
             shape = Part.makeBox(max(x1 - x0, 1e-3), max(y1 - y0, 1e-3), max(z1 - z0, 1e-3), App.Vector(x0, y0, z0))

@@ -17,16 +17,14 @@ import FreeCAD as App
 import FreeCADGui as Gui
 from FreeCAD import Qt
 
+translate = Qt.translate   # FreeCAD's convention; pylupdate5 collects the ("HapticGrasp", text) calls
+
 from . import review as hreview
 from . import session as hs
 
 SPEEDS = (0.25, 0.5, 1.0, 2.0, 4.0)
 TICK_MS = 30   # the playback timer: about 33 frames a second, as many as the GUI draws anyway
 _current = None   # the open ReviewPanel (one at a time, as Gui.Control allows)
-
-
-def tr(text):
-    return Qt.translate("HapticGrasp", text)
 
 
 def current():
@@ -41,7 +39,8 @@ def open_review(path, doc=None):
     that is not a recording, another task dialog open)."""
     global _current
     if Gui.Control.activeDialog():
-        raise RuntimeError(tr("Another task panel is open: close it before reviewing a recording."))
+        raise RuntimeError(translate("HapticGrasp", "Another task panel is open: close it before reviewing a "
+                                                    "recording."))
     review = hreview.Review(path, doc) if doc is not None else hreview.open_without_document(path)
     panel = ReviewPanel(review)
     Gui.Control.showDialog(panel)
@@ -67,18 +66,18 @@ def run_command(controller):
     document, or on a new document when none is open. Returns the panel or None."""
     from PySide import QtCore, QtGui   # FreeCAD's shim
     window = Gui.getMainWindow()
-    title = tr("Review a recording")
+    title = translate("HapticGrasp", "Review a recording")
     if controller.session is not None:
-        QtGui.QMessageBox.warning(window, title, tr("A haptic session is running: stop it before reviewing a "
-                                                    "recording."))
+        QtGui.QMessageBox.warning(window, title, translate("HapticGrasp", "A haptic session is running: stop it "
+                                                                          "before reviewing a recording."))
         return None
     if Gui.Control.activeDialog():
-        QtGui.QMessageBox.warning(window, title, tr("Another task panel is open: close it before reviewing a "
-                                                    "recording."))
+        QtGui.QMessageBox.warning(window, title, translate("HapticGrasp", "Another task panel is open: close it "
+                                                                          "before reviewing a recording."))
         return None
     doc = App.ActiveDocument
     path, _filter = QtGui.QFileDialog.getOpenFileName(window, title, start_folder(doc),
-                                                      tr("Session recordings (*.mcap)"))
+                                                      translate("HapticGrasp", "Session recordings (*.mcap)"))
     if not path:
         return None
     # One pass over the file (measured in FreeCAD: 3 s for 10 minutes at 2 kHz, 11 s at 8 kHz): say so.
@@ -111,7 +110,7 @@ class ReviewPanel:
         self.closed = False
         self.form = QtGui.QWidget()
         self.form.setObjectName("HapticGrasp_ReviewPanel")
-        self.form.setWindowTitle(tr("Review"))
+        self.form.setWindowTitle(translate("HapticGrasp", "Review"))
         layout = QtGui.QVBoxLayout(self.form)
 
         name = os.path.basename(review.path)
@@ -146,24 +145,24 @@ class ReviewPanel:
         style = self.form.style()
         row = QtGui.QHBoxLayout()
         self.back_button = self._button("HapticGrasp_ReviewStepBack", style.standardIcon(
-            QtGui.QStyle.SP_MediaSeekBackward), tr("One frame back"), lambda: self.step(-1))
+            QtGui.QStyle.SP_MediaSeekBackward), translate("HapticGrasp", "One frame back"), lambda: self.step(-1))
         self.play_button = self._button("HapticGrasp_ReviewPlay", style.standardIcon(QtGui.QStyle.SP_MediaPlay),
-                                        tr("Play / pause"), self.toggle_play)
-        self.play_button.setText(tr("Play"))
+                                        translate("HapticGrasp", "Play / pause"), self.toggle_play)
+        self.play_button.setText(translate("HapticGrasp", "Play"))
         self.forward_button = self._button("HapticGrasp_ReviewStepForward", style.standardIcon(
-            QtGui.QStyle.SP_MediaSeekForward), tr("One frame forward"), lambda: self.step(1))
+            QtGui.QStyle.SP_MediaSeekForward), translate("HapticGrasp", "One frame forward"), lambda: self.step(1))
         for button in (self.back_button, self.play_button, self.forward_button):
             row.addWidget(button)
         layout.addLayout(row)
         row = QtGui.QHBoxLayout()
-        row.addWidget(QtGui.QLabel(tr("Speed:")))
+        row.addWidget(QtGui.QLabel(translate("HapticGrasp", "Speed:")))
         self.speed_combo = QtGui.QComboBox()
         self.speed_combo.setObjectName("HapticGrasp_ReviewSpeed")
         for speed in SPEEDS:
-            self.speed_combo.addItem(("%g" % speed) + "\u00d7", speed)
+            self.speed_combo.addItem(("%g" % speed) + "×", speed)
         self.speed_combo.setCurrentIndex(SPEEDS.index(1.0))
         row.addWidget(self.speed_combo)
-        self.loop_box = QtGui.QCheckBox(tr("Loop"))
+        self.loop_box = QtGui.QCheckBox(translate("HapticGrasp", "Loop"))
         self.loop_box.setObjectName("HapticGrasp_ReviewLoop")
         row.addWidget(self.loop_box)
         row.addStretch(1)
@@ -174,7 +173,7 @@ class ReviewPanel:
         self.state_label.setWordWrap(True)
         layout.addWidget(self.state_label)
 
-        events_label = QtGui.QLabel(tr("Events and notes (click to jump there):"))
+        events_label = QtGui.QLabel(translate("HapticGrasp", "Events and notes (click to jump there):"))
         events_label.setWordWrap(True)
         layout.addWidget(events_label)
         self.events_list = QtGui.QListWidget()
@@ -182,7 +181,8 @@ class ReviewPanel:
         self.events_list.setWordWrap(True)
         self.events_list.setMinimumHeight(100)
         for t, text, kind in review.timeline():
-            prefix = {"note": tr("note:") + " ", "fault": tr("fault:") + " "}.get(kind, "")
+            prefix = {"note": translate("HapticGrasp", "note:") + " ",
+                      "fault": translate("HapticGrasp", "fault:") + " "}.get(kind, "")
             item = QtGui.QListWidgetItem("%.2f s  %s%s" % (t, prefix, text))
             item.setData(QtCore.Qt.UserRole, float(t))
             if kind == "fault":
@@ -194,9 +194,10 @@ class ReviewPanel:
         self.events_list.itemActivated.connect(self._jump)
         layout.addWidget(self.events_list, 1)
 
-        self.apply_button = QtGui.QPushButton(tr("Apply the pose at the cursor"))
+        self.apply_button = QtGui.QPushButton(translate("HapticGrasp", "Apply the pose at the cursor"))
         self.apply_button.setObjectName("HapticGrasp_ReviewApply")
-        self.apply_button.setToolTip(tr("Set the parts where the recording has them at the cursor (one undo step)"))
+        self.apply_button.setToolTip(translate("HapticGrasp", "Set the parts where the recording has them at the "
+                                                              "cursor (one undo step)"))
         self.apply_button.clicked.connect(self.apply)
         self.apply_button.setEnabled(review.doc is not None)
         layout.addWidget(self.apply_button)
@@ -222,13 +223,13 @@ class ReviewPanel:
 
     def _about(self):
         info = self.review.info
-        lines = [tr("%.2f s, %d part(s), %d moved") % (self.review.duration_s, len(self.review.parts),
-                                                       len(self.review.moved))]
+        lines = [translate("HapticGrasp", "%.2f s, %d part(s), %d moved")
+                 % (self.review.duration_s, len(self.review.parts), len(self.review.moved))]
         document = info.get("document") or ""
         if document:
-            lines.append(tr("Recorded on %s") % os.path.basename(document))
+            lines.append(translate("HapticGrasp", "Recorded on %s") % os.path.basename(document))
         if self.review.doc is not None:
-            lines.append(tr("Played back on %s") % self.review.doc.Label)
+            lines.append(translate("HapticGrasp", "Played back on %s") % self.review.doc.Label)
         return "\n".join(lines)
 
     def _make_overlay(self):
@@ -299,7 +300,7 @@ class ReviewPanel:
             self._draw(frame, t)
         except Exception as e:   # a document closed or edited away meanwhile: say it, stop playing
             self.pause()
-            self.message.setText(tr("Cannot show %.2f s: %s") % (t, e))
+            self.message.setText(translate("HapticGrasp", "Cannot show %.2f s: %s") % (t, e))
             App.Console.PrintError("HapticGrasp: review: %s\n" % e)
             return
         self.slider.blockSignals(True)
@@ -322,14 +323,15 @@ class ReviewPanel:
     def _show_state(self, frame):
         state = frame["state"]
         if frame["fault"]:
-            state += "  " + tr("(device fault)")
+            state += "  " + translate("HapticGrasp", "(device fault)")
         part = self.review.part_name(frame["grasped"])
         if part and frame["state"] in hs.HOLDING:
-            state += "  " + (tr("holding %s") % part)
+            state += "  " + (translate("HapticGrasp", "holding %s") % part)
         forces = [_vector(f).Length for f in frame["fingertip_forces"]] or [_vector(f).Length
                                                                              for f in frame["forces"]]
-        self.state_label.setText("%s\n%s" % (state, tr("Fingertip forces %s N, grasping force %.2f N")
-                                             % (", ".join("%.2f" % f for f in forces), frame["grasp_force_n"])))
+        forces_text = translate("HapticGrasp", "Fingertip forces %s N, grasping force %.2f N") % (
+            ", ".join("%.2f" % f for f in forces), frame["grasp_force_n"])
+        self.state_label.setText("%s\n%s" % (state, forces_text))
 
     def _slider_moved(self, value):
         self.seek(value / 1000.0)
@@ -355,14 +357,14 @@ class ReviewPanel:
             self.seek(0.0)   # at the end: play again from the start
         self.playing = True
         self._clock = time.monotonic()
-        self.play_button.setText(tr("Pause"))
+        self.play_button.setText(translate("HapticGrasp", "Pause"))
         self.play_button.setIcon(self.form.style().standardIcon(self._style_icon("SP_MediaPause")))
         self.timer.start()
 
     def pause(self):
         self.playing = False
         self.timer.stop()
-        self.play_button.setText(tr("Play"))
+        self.play_button.setText(translate("HapticGrasp", "Play"))
         self.play_button.setIcon(self.form.style().standardIcon(self._style_icon("SP_MediaPlay")))
 
     @staticmethod
@@ -401,14 +403,16 @@ class ReviewPanel:
         try:
             written = self.review.apply(self.t)
         except Exception as e:
-            self.message.setText(tr("Cannot apply the pose: %s") % e)
+            self.message.setText(translate("HapticGrasp", "Cannot apply the pose: %s") % e)
             App.Console.PrintError("HapticGrasp: review: cannot apply the pose: %s\n" % e)
             return []
         self.review.preview(self.t)   # what the view shows is now the document's
         if written:
-            text = tr("Applied the pose at %.2f s to %s (one undo step).") % (self.t, ", ".join(written))
+            text = translate("HapticGrasp", "Applied the pose at %.2f s to %s (one undo step).") % (
+                self.t, ", ".join(written))
             App.Console.PrintMessage("HapticGrasp: %s\n" % text)
         else:
-            text = tr("The parts already stand where the recording has them at %.2f s: nothing applied.") % self.t
+            text = translate("HapticGrasp", "The parts already stand where the recording has them at %.2f s: "
+                                            "nothing applied.") % self.t
         self.message.setText(text)
         return written

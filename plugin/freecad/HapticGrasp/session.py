@@ -108,11 +108,13 @@ def recording_path(doc, now=None):
 def recording_text(status):
     """The task panel's Recording field: file name, MB written, dropped records; the error;
     or "off" (status None)."""
+    translate = App.Qt.translate   # the panel shows it
     if status is None:
-        return "off"
+        return translate("HapticGrasp", "off")
     if status["error"]:
-        return "error: " + status["error"]
-    return "%s, %.1f MB, %d dropped" % (os.path.basename(status["path"]), status["bytes"] / 1e6, status["dropped"])
+        return translate("HapticGrasp", "error: %s") % status["error"]
+    return translate("HapticGrasp", "%s, %.1f MB, %d dropped") % (os.path.basename(status["path"]),
+                                                                  status["bytes"] / 1e6, status["dropped"])
 
 
 def default_parameters():
