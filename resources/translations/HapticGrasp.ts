@@ -29,7 +29,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="179"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="227"/>
         <source>Add note</source>
         <translation type="unfinished"></translation>
     </message>
@@ -49,222 +49,192 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="10"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="11"/>
         <source>n/a (not in the core snapshot)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="13"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="14"/>
         <source>Demo script</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="13"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="14"/>
         <source>Mouse and keyboard</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="13"/>
-        <source>Simulated arm (mouse + keyboard)</source>
-        <translation type="unfinished"></translation>
-    </message>
-    <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="18"/>
-        <source>SpaceMouse / HID: none attached</source>
-        <translation type="unfinished"></translation>
-    </message>
-    <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="21"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="22"/>
         <source>Device:</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="21"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="22"/>
         <source>State:</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="21"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="22"/>
         <source>Grasped part:</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="21"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="22"/>
         <source>Index force:</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="21"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="22"/>
         <source>Thumb force:</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="21"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="22"/>
         <source>Grasping force:</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="21"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="22"/>
         <source>Servo rate:</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="21"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="22"/>
         <source>Servo jitter:</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="21"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="22"/>
         <source>Servo time:</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="21"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="22"/>
         <source>Moves / faults:</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="21"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="22"/>
         <source>Exact models:</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="21"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="22"/>
         <source>Sound:</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="21"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="22"/>
         <source>Recording:</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="49"/>
-        <source>SpaceMouse %s (%s)</source>
-        <translation type="unfinished"></translation>
-    </message>
-    <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="52"/>
-        <source>HID: %s (%s)</source>
-        <translation type="unfinished"></translation>
-    </message>
-    <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="63"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="72"/>
         <source>No SpaceMouse or HID device attached (plug one in, then reopen this panel).</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="66"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="75"/>
         <source>%d HID device(s) attached, none a SpaceMouse or matched by a layout in &lt;FreeCAD user data&gt;/HapticGrasp/devices/.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="120"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="143"/>
         <source>Mouse and keyboard: move the mouse to move the hand in the view plane, wheel for depth, hold G to pinch, Esc cancels. Simulated arm: the same keys move the target of a simulated operator who drives the simulated master arm; the grasp feels the arm&apos;s fingertips</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="128"/>
-        <source>%s (not available in this build)</source>
-        <translation type="unfinished"></translation>
-    </message>
-    <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="146"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="185"/>
         <source>%s (not attached)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="156"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="140"/>
         <source>Input:</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="170"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="216"/>
         <source>Start</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="172"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="219"/>
         <source>Stop</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="181"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="229"/>
         <source>A short note for the reviewer, in the recording at this moment, about the part under the hand (N)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="234"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="278"/>
         <source>stopped</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="244"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="289"/>
         <source>%v / %m parts</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="245"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="290"/>
         <source>Cancel</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="267"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="312"/>
         <source>building models</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="273"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="318"/>
         <source>Building %s (%d of %d)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="275"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="320"/>
         <source>Built %d of %d parts</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="284"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="329"/>
         <source>Rebuilding %s (swapped in when no part is held)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="299"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="344"/>
         <source>(fault: %s)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="307"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="352"/>
         <source>(not displayed: input-only device)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="318"/>
-        <source>%.0f Hz (ticks / wall clock)</source>
-        <translation type="unfinished"></translation>
-    </message>
-    <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="318"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="364"/>
         <source>measuring…</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="327"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="373"/>
         <source>%d of %d parts</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="327"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="373"/>
         <source>%d of %d parts (the others felt as their boxes until built)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="332"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="378"/>
         <source>on</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="332"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="378"/>
         <source>silent (no audio output ready)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -521,6 +491,36 @@
     <message>
         <location filename="../../plugin/freecad/HapticGrasp/review_panel.py" line="415"/>
         <source>The parts already stand where the recording has them at %.2f s: nothing applied.</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="14"/>
+        <source>Simulated arm</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="19"/>
+        <source>No SpaceMouse / HID</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="62"/>
+        <source>SpaceMouse, %s</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="63"/>
+        <source>HID layout %s, %s</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="154"/>
+        <source>%s (unavailable)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="364"/>
+        <source>%.0f Hz (measured)</source>
         <translation type="unfinished"></translation>
     </message>
 </context>

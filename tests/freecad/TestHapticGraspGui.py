@@ -473,7 +473,7 @@ class HapticGraspGui(unittest.TestCase):
                 combo = panel.form.findChild(QtWidgets.QComboBox, "HapticGrasp_DeviceCombo")
                 arm = combo.findData("arm")
                 self.assertGreaterEqual(arm, 0)
-                self.assertEqual(combo.itemText(arm), "Simulated arm (mouse + keyboard)")
+                self.assertEqual(combo.itemText(arm), "Simulated arm")
                 self.assertTrue(combo.model().item(arm).isEnabled())
                 combo.setCurrentIndex(arm)
                 self.assertEqual(controller.device, "arm")
@@ -588,7 +588,7 @@ class HapticGraspGui(unittest.TestCase):
 
     # --- HID devices in the picker (the module's fake transport, test only) --------------
     def test_the_picker_lists_an_attached_spacemouse_and_says_when_none_is(self):
-        from PySide2 import QtWidgets
+        from PySide2 import QtCore, QtWidgets
         from freecad.hapticgrasp import _hapticgrasp as core
         from freecad.hapticgrasp import panel as hpanel
         Gui.activateWorkbench("HapticGraspWorkbench")
@@ -609,7 +609,8 @@ class HapticGraspGui(unittest.TestCase):
             item = combo.findData("spacemouse:/dev/hidraw-test0")
             self.assertGreaterEqual(item, 0)
             self.assertTrue(combo.model().item(item).isEnabled())
-            self.assertEqual(combo.itemText(item), "SpaceMouse SpaceNavigator (/dev/hidraw-test0)")
+            self.assertEqual(combo.itemText(item), "SpaceNavigator (hidraw-test0)")
+            self.assertEqual(combo.itemData(item, QtCore.Qt.ToolTipRole), "SpaceMouse, /dev/hidraw-test0")
             combo.setCurrentIndex(item)
             self.assertEqual(controller.device, "spacemouse:/dev/hidraw-test0")
             panel.reject()
@@ -827,6 +828,149 @@ class WorkbenchConventions(unittest.TestCase):
         self.assertGreater(likeness(seen["Haptic Grasp"], drawn), 0.98)
 
 
+def task_scroll_area(form):
+    """The task view's QScrollArea that holds a task panel's form."""
+    from PySide import QtGui
+    parent = form.parentWidget()
+    while parent is not None and not isinstance(parent, QtGui.QScrollArea):
+        parent = parent.parentWidget()
+    return parent
+
+
+def _label_text_width(label, width):
+    """How wide a QLabel's text is laid out in `width` px (its widest line: a word wider
+    than `width` makes it wider), measured as QLabel draws: rich text as a QTextDocument,
+    plain text with the font's metrics."""
+    from PySide import QtCore, QtGui
+    text = label.text()
+    if label.textFormat() == QtCore.Qt.RichText or (label.textFormat() == QtCore.Qt.AutoText
+                                                    and QtGui.Qt.mightBeRichText(text)):
+        document = QtGui.QTextDocument()
+        document.setDefaultFont(label.font())
+        document.setDocumentMargin(0)
+        document.setHtml(text)
+        document.setTextWidth(width if label.wordWrap() else -1)
+        return document.idealWidth()
+    metrics = label.fontMetrics()
+    if label.wordWrap():
+        return metrics.boundingRect(QtCore.QRect(0, 0, width, 1 << 20), int(QtCore.Qt.TextWordWrap), text).width()
+    return max(metrics.horizontalAdvance(line) for line in text.split("\n"))
+
+
+def _combo_item_widths(combo):
+    """[(text, px)]: how wide a QComboBox must be to show each of its items whole, computed
+    as QComboBox computes its size hint (the style's size around the text and the icon)."""
+    from PySide import QtCore, QtGui
+    option = QtGui.QStyleOptionComboBox()
+    option.initFrom(combo)
+    option.editable = combo.isEditable()
+    metrics = combo.fontMetrics()
+    widths = []
+    for row in range(combo.count()):
+        icon = 0 if combo.itemIcon(row).isNull() else combo.iconSize().width() + 4
+        content = QtCore.QSize(metrics.horizontalAdvance(combo.itemText(row)) + icon, metrics.height())
+        size = combo.style().sizeFromContents(QtGui.QStyle.CT_ComboBox, option, content, combo)
+        widths.append((combo.itemText(row), size.width()))
+    return widths
+
+
+def clipped(form):
+    """What of a task panel does not fit the task view at its width, one line each: the
+    panel scrolling sideways; a label, button, combo box or check box reaching outside the
+    view, narrower than its size hint (buttons, check boxes: their text is cut), a combo box
+    too narrow for any of its items, or a label whose text is wider than it (a line that does
+    not wrap, a word too long to wrap) or taller."""
+    from PySide import QtCore, QtGui
+    area = task_scroll_area(form)
+    viewport = area.viewport()
+    problems = []
+    if area.horizontalScrollBar().maximum() > 0:
+        problems.append("the panel scrolls sideways by %d px" % area.horizontalScrollBar().maximum())
+    for widget in form.findChildren(QtGui.QWidget):
+        if not isinstance(widget, (QtGui.QLabel, QtGui.QPushButton, QtGui.QComboBox, QtGui.QCheckBox)):
+            continue
+        if not widget.isVisibleTo(form):
+            continue
+        text = widget.currentText() if isinstance(widget, QtGui.QComboBox) else widget.text()
+        name = "%s %s %r" % (type(widget).__name__, widget.objectName(), text[:40])
+        left = widget.mapTo(viewport, QtCore.QPoint(0, 0)).x()
+        if left < 0 or left + widget.width() > viewport.width():
+            problems.append("%s: x %d..%d in a view %d px wide" % (name, left, left + widget.width(),
+                                                                  viewport.width()))
+        if isinstance(widget, QtGui.QLabel):
+            room = widget.contentsRect().width()
+            need = _label_text_width(widget, room)
+            if need > room:
+                problems.append("%s: text %d px wide in %d px" % (name, need, room))
+            if widget.wordWrap() and widget.height() < widget.heightForWidth(widget.width()):
+                problems.append("%s: %d px high, its text %d px" % (name, widget.height(),
+                                                                     widget.heightForWidth(widget.width())))
+        elif isinstance(widget, QtGui.QComboBox):
+            for item, need in _combo_item_widths(widget):
+                if need > widget.width():
+                    problems.append("%s: %d px wide, item %r needs %d" % (name, widget.width(), item, need))
+        elif widget.width() < widget.sizeHint().width():
+            problems.append("%s: %d px wide, needs %d" % (name, widget.width(), widget.sizeHint().width()))
+    return problems
+
+
+def settle(seconds=0.3):
+    """Lets Qt lay the panels out (and the timers tick) for a while."""
+    from PySide import QtGui
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        QtGui.QApplication.processEvents()
+        time.sleep(0.01)
+
+
+class LivePanelWidth(unittest.TestCase):
+    """The live session's task panel fits the combo view at its default width (a fresh
+    profile's: 264 px here) idle, while the models are built and while a session runs with
+    every read-out filled: nothing is cut and nothing scrolls sideways. A screenshot of the
+    running panel: build/freecad/screenshots/TestHapticGraspGui_live_panel.png."""
+
+    maxDiff = None   # every clipped widget in the failure message
+
+    def test_the_live_panel_fits_the_combo_view(self):
+        from PySide import QtGui
+        Gui.activateWorkbench("HapticGraspWorkbench")
+        controller = hgui._HapticGraspController
+        doc, cylinder = cylinder_doc("HapticGraspWidth")
+        controller.device = "demo"
+        try:
+            panel = controller.show_panel()
+            self.assertIsNotNone(panel)
+            settle()
+            area = task_scroll_area(panel.form)
+            print("combo view %d px wide, the task view's viewport %d px"
+                  % (Gui.getMainWindow().findChild(QtGui.QDockWidget, "Combo View").width(),
+                     area.viewport().width()))
+            self.assertEqual(clipped(panel.form), [], "idle")
+            panel.set_building(True)
+            panel.show_build(3, 12, "Cylinder001")
+            settle()
+            self.assertEqual(clipped(panel.form), [], "building")
+            panel.set_building(False)
+            Gui.Selection.addSelection(cylinder)
+            Gui.runCommand("HapticGrasp_Start")
+            deadline = time.monotonic() + 15
+            while time.monotonic() < deadline and controller.session is not None and not (
+                    controller.session.state == "MANIPULATE" and "Hz" in panel.fields["rate"].text()):
+                settle(0.02)
+            self.assertEqual(controller.session.state, "MANIPULATE")
+            self.assertNotIn("-", [label.text() for label in panel.fields.values()])
+            problems = clipped(panel.form)
+            os.makedirs(SCREENSHOT_DIR, exist_ok=True)
+            panel.form.grab().save(os.path.join(SCREENSHOT_DIR, "TestHapticGraspGui_live_panel.png"))
+            self.assertEqual(problems, [], "running")
+        finally:
+            controller.stop()
+            if controller.panel is not None:
+                controller.panel.reject()
+            settle(0.1)
+            App.closeDocument(doc.Name)
+
+
 class ReviewPanelGui(unittest.TestCase):
     """The Review panel in the real GUI: a session recorded on a saved document is played
     back by moving the part's view provider only (its root SoTransform shows the recorded
@@ -871,6 +1015,27 @@ class ReviewPanelGui(unittest.TestCase):
         """Where the 3D view shows obj: its view provider's root SoTransform (mm)."""
         transform = obj.ViewObject.RootNode.getChild(0)
         return App.Vector(*transform.translation.getValue().getValue())
+
+    def test_the_review_panel_fits_the_combo_view(self):
+        # At the combo view's default width, mid-carry (the longest state text) and with the
+        # longest event in the list: nothing cut, nothing scrolling sideways.
+        from freecad.hapticgrasp import review_panel
+        self.maxDiff = None   # every clipped widget in the failure message
+        Gui.activateWorkbench("HapticGraspWorkbench")
+        doc, cylinder, path = self._record()
+        panel = review_panel.open_review(path, doc)
+        try:
+            panel.seek(1.2)
+            settle()
+            self.assertEqual(panel.state_label.text().split()[0], "MANIPULATE")
+            problems = clipped(panel.form)
+            os.makedirs(SCREENSHOT_DIR, exist_ok=True)
+            panel.form.grab().save(os.path.join(SCREENSHOT_DIR, "TestHapticGraspGui_review_panel_width.png"))
+            self.assertEqual(problems, [])
+        finally:
+            panel.reject()
+            settle(0.1)
+            App.closeDocument(doc.Name)
 
     def test_playback_moves_the_view_only_and_apply_is_one_undo_step(self):
         from PySide2 import QtCore, QtWidgets

@@ -1,5 +1,6 @@
 """Task panel of a haptic session (Gui.Control.showDialog): state, fingertip forces,
 grasping force, servo rate and jitter, the recording, Start/Stop and Add note (N). Filled from the controller's timer tick."""
+import os
 import time
 
 from FreeCAD import Qt
@@ -13,9 +14,9 @@ NOT_EXPOSED = QT_TRANSLATE_NOOP("HapticGrasp", "n/a (not in the core snapshot)")
 DEVICES = (
     ("demo", QT_TRANSLATE_NOOP("HapticGrasp", "Demo script"), "set_hand_script"),
     ("mouse", QT_TRANSLATE_NOOP("HapticGrasp", "Mouse and keyboard"), "use_hand_input"),
-    ("arm", QT_TRANSLATE_NOOP("HapticGrasp", "Simulated arm (mouse + keyboard)"), "use_simulated_arm"),
+    ("arm", QT_TRANSLATE_NOOP("HapticGrasp", "Simulated arm"), "use_simulated_arm"),
 )
-NO_HID = QT_TRANSLATE_NOOP("HapticGrasp", "SpaceMouse / HID: none attached")
+NO_HID = QT_TRANSLATE_NOOP("HapticGrasp", "No SpaceMouse / HID")
 
 # The read-outs: (key, label).
 FIELDS = (
@@ -42,16 +43,24 @@ def available_devices(core_session_class):
 
 def hid_choices(devices):
     """[(key, title, layout file)] of the attached HID devices a back end can drive: keys
-    "spacemouse:<path>" and "hid:<path>" (the controller's device)."""
+    "spacemouse:<path>" and "hid:<path>" (the controller's device); titles short enough for
+    the picker: the model and the device node's name."""
     out = []
     for d in devices:
+        title = "%s (%s)" % (d["model"], os.path.basename(d["path"]))
         if d["backend"] == "spacemouse":
-            out.append(("spacemouse:" + d["path"], translate("HapticGrasp", "SpaceMouse %s (%s)")
-                        % (d["model"], d["path"]), ""))
+            out.append(("spacemouse:" + d["path"], title, ""))
         elif d["backend"] == "layout":
-            out.append(("hid:" + d["path"], translate("HapticGrasp", "HID: %s (%s)") % (d["model"], d["path"]),
-                        d["layout"]))
+            out.append(("hid:" + d["path"], title, d["layout"]))
     return out
+
+
+def hid_tip(key, layout_file):
+    """A HID device's tool tip in the picker: what drives it and its device node."""
+    kind, path = key.split(":", 1)
+    if kind == "spacemouse":
+        return translate("HapticGrasp", "SpaceMouse, %s") % path
+    return translate("HapticGrasp", "HID layout %s, %s") % (os.path.basename(layout_file), path)
 
 
 def hid_message(devices, problems):
@@ -70,7 +79,7 @@ def hid_message(devices, problems):
 
 
 def _vector_text(v):
-    return "%.2f N  (%.2f, %.2f, %.2f)" % (v.Length, v.x, v.y, v.z)
+    return "(%.2f, %.2f, %.2f) N" % (v.x, v.y, v.z)
 
 
 def close_session(controller):
@@ -108,13 +117,27 @@ class HapticTaskPanel:
     """The task dialog; `form` is the QWidget FreeCAD shows in the combo view."""
 
     def __init__(self, controller):
-        from PySide import QtCore, QtGui   # FreeCAD's shim: QtGui holds the widgets too
+        from PySide import QtGui   # FreeCAD's shim: QtGui holds the widgets too
         self.controller = controller
         self.form = QtGui.QWidget()
         self.form.setObjectName("HapticGraspTaskPanel")
         self.form.setWindowTitle("HapticGrasp")
+        # Narrow enough for the combo view's default width (264 px): the picker gets a row of
+        # its own, texts that can be long wrap, and the recording gets the full width.
         layout = QtGui.QVBoxLayout(self.form)
-        grid = QtGui.QFormLayout()
+        self._add_device_picker(layout)
+        self._add_readouts(layout)
+        self._add_buttons(layout)
+        self._add_build_row(layout)
+        layout.addStretch(1)
+        self.rate = RateMeter()
+        self.set_running(False)
+
+    def _add_device_picker(self, layout):
+        """Input: the built-in inputs and the attached HID devices, and a line about them."""
+        from PySide import QtCore, QtGui
+        from . import session as hs
+        layout.addWidget(QtGui.QLabel(translate("HapticGrasp", "Input:")))
         self.device_combo = QtGui.QComboBox()
         self.device_combo.setObjectName("HapticGrasp_DeviceCombo")
         self.device_combo.setToolTip(translate("HapticGrasp", "Mouse and keyboard: move the mouse to move the hand "
@@ -122,54 +145,79 @@ class HapticTaskPanel:
                                                "Simulated arm: the same keys move the target of a simulated "
                                                "operator who drives the simulated master arm; the grasp feels the "
                                                "arm's fingertips"))
-        from . import session as hs
+        # A long device name does not widen the panel: the picker shows what fits, the
+        # item's tool tip the whole name.
+        self.device_combo.setSizeAdjustPolicy(QtGui.QComboBox.AdjustToMinimumContentsLengthWithIcon)
+        self.device_combo.setMinimumContentsLength(12)
         for key, title, available in available_devices(hs.core.Session):
             title = translate("HapticGrasp", title)
-            self.device_combo.addItem(title if available else translate("HapticGrasp", "%s (not available in this "
-                                                                                       "build)") % title, key)
-            if not available:
-                self.device_combo.model().item(self.device_combo.count() - 1).setEnabled(False)
-        # The HID devices actually attached (SpaceMouse, or matched by a layout).
-        devices, problems = hs.list_devices()
+            self._add_device(title if available else translate("HapticGrasp", "%s (unavailable)") % title, key,
+                             enabled=available)
+        devices, problems = hs.list_devices()   # attached: a SpaceMouse, or matched by a layout
         self.layouts = {}   # device key -> layout file
         choices = hid_choices(devices)
         for key, title, layout_file in choices:
-            self.device_combo.addItem(title, key)
+            self._add_device(title, key, tip=hid_tip(key, layout_file))
             self.layouts[key] = layout_file
         if not choices:
-            self.device_combo.addItem(translate("HapticGrasp", NO_HID), "")
-            self.device_combo.model().item(self.device_combo.count() - 1).setEnabled(False)
-        current = getattr(controller, "device", "demo")
+            self._add_device(translate("HapticGrasp", NO_HID), "", enabled=False)
+        self._pick(getattr(self.controller, "device", "demo"))
+        self.device_combo.currentIndexChanged.connect(self._device_changed)
+        layout.addWidget(self.device_combo)
+        self.message = QtGui.QLabel(hid_message(devices, problems))
+        self.message.setObjectName("HapticGrasp_message")
+        self.message.setWordWrap(True)
+        self.message.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)   # the udev rule can be copied
+        layout.addWidget(self.message)
+
+    def _add_device(self, title, key, enabled=True, tip=None):
+        from PySide import QtCore
+        self.device_combo.addItem(title, key)
+        row = self.device_combo.count() - 1
+        self.device_combo.setItemData(row, tip or title, QtCore.Qt.ToolTipRole)
+        self.device_combo.model().item(row).setEnabled(enabled)
+
+    def _pick(self, current):
+        """Selects the controller's device; one picked before and not attached now is shown
+        as such (Start says why it cannot open)."""
         chosen = self.device_combo.findData(current)
         if chosen < 0 and current.startswith(("spacemouse:", "hid:")):
-            # Picked before, not attached now: shown as such (Start says why it cannot open).
-            self.device_combo.addItem(translate("HapticGrasp", "%s (not attached)") % current.split(":", 1)[1],
-                                      current)
-            self.layouts[current] = getattr(controller, "device_layout", "")
+            self._add_device(translate("HapticGrasp", "%s (not attached)") % current.split(":", 1)[1], current)
+            self.layouts[current] = getattr(self.controller, "device_layout", "")
             chosen = self.device_combo.count() - 1
         self.device_combo.setCurrentIndex(max(0, chosen))
         if chosen < 0:
             self._device_changed(self.device_combo.currentIndex())
         elif current in self.layouts:
-            controller.device_layout = self.layouts[current]
-        self.device_combo.currentIndexChanged.connect(self._device_changed)
-        grid.addRow(translate("HapticGrasp", "Input:"), self.device_combo)
-        self.message = QtGui.QLabel(hid_message(devices, problems))
-        self.message.setObjectName("HapticGrasp_message")
-        self.message.setWordWrap(True)
-        self.message.setTextInteractionFlags(QtCore.Qt.TextSelectableByMouse)   # the udev rule can be copied
-        grid.addRow(self.message)
+            self.controller.device_layout = self.layouts[current]
+
+    def _add_readouts(self, layout):
+        """The read-outs (label: value, values wrap); the recording below at full width."""
+        from PySide import QtGui
+        grid = QtGui.QFormLayout()
         self.fields = {}
         for key, title in FIELDS:
             label = QtGui.QLabel("-")
             label.setObjectName("HapticGrasp_" + key)
-            grid.addRow(translate("HapticGrasp", title), label)
+            label.setWordWrap(True)
             self.fields[key] = label
+            if key == "recording":   # a file name: wider than the value column
+                grid.addRow(QtGui.QLabel(translate("HapticGrasp", title)))
+                grid.addRow(label)
+            else:
+                grid.addRow(translate("HapticGrasp", title), label)
         layout.addLayout(grid)
+
+    def _add_buttons(self, layout):
+        """Start and Stop (with the commands' icons), Add note (N)."""
+        from PySide import QtGui
+        from . import icon
         buttons = QtGui.QHBoxLayout()
-        self.start_button = QtGui.QPushButton(translate("HapticGrasp", "Start"))
+        self.start_button = QtGui.QPushButton(QtGui.QIcon(icon("HapticGrasp_Start.svg")),
+                                              translate("HapticGrasp", "Start"))
         self.start_button.setObjectName("HapticGrasp_StartButton")
-        self.stop_button = QtGui.QPushButton(translate("HapticGrasp", "Stop"))
+        self.stop_button = QtGui.QPushButton(QtGui.QIcon(icon("HapticGrasp_Stop.svg")),
+                                             translate("HapticGrasp", "Stop"))
         self.stop_button.setObjectName("HapticGrasp_StopButton")
         self.start_button.clicked.connect(self._start)
         self.stop_button.clicked.connect(self._stop)
@@ -183,10 +231,6 @@ class HapticTaskPanel:
         self.note_button.setShortcut(QtGui.QKeySequence("N"))   # a window shortcut: works over the 3D view
         self.note_button.clicked.connect(lambda: self.controller.add_note())
         layout.addWidget(self.note_button)
-        self._add_build_row(layout)
-        layout.addStretch(1)
-        self.rate = RateMeter()
-        self.set_running(False)
 
     # --- FreeCAD task dialog protocol -------------------------------------------------
     def getStandardButtons(self):
@@ -239,6 +283,7 @@ class HapticTaskPanel:
         from PySide import QtGui
         self.build_label = QtGui.QLabel("")
         self.build_label.setObjectName("HapticGrasp_BuildLabel")
+        self.build_label.setWordWrap(True)
         self.build_bar = QtGui.QProgressBar()
         self.build_bar.setObjectName("HapticGrasp_BuildProgress")
         self.build_bar.setFormat(translate("HapticGrasp", "%v / %m parts"))
@@ -305,8 +350,9 @@ class HapticTaskPanel:
             import FreeCAD as App
             felt = getattr(session.core, "device_force_output", True)
             note = "" if felt else "  " + translate("HapticGrasp", "(not displayed: input-only device)")
-            f["index"].setText(_vector_text(App.Vector(*forces[0])) + note)
-            f["thumb"].setText(_vector_text(App.Vector(*forces[1])) + note)
+            for key, force in (("index", App.Vector(*forces[0])), ("thumb", App.Vector(*forces[1]))):
+                f[key].setText("%.2f N" % force.Length + note)   # the direction: the tool tip, the 3D view
+                f[key].setToolTip(_vector_text(force))
         else:
             f["index"].setText(translate("HapticGrasp", NOT_EXPOSED))
             f["thumb"].setText(translate("HapticGrasp", NOT_EXPOSED))
@@ -315,7 +361,7 @@ class HapticTaskPanel:
         rate = snap.get("rate_hz")
         if rate is None:
             measured = self.rate.update(snap.get("tick", 0))
-            f["rate"].setText(translate("HapticGrasp", "%.0f Hz (ticks / wall clock)") % measured
+            f["rate"].setText(translate("HapticGrasp", "%.0f Hz (measured)") % measured
                               if measured is not None else translate("HapticGrasp", "measuring…"))
         else:
             f["rate"].setText("%.0f Hz" % rate)
