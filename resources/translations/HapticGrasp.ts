@@ -9,17 +9,17 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/session.py" line="89"/>
+        <location filename="../../plugin/freecad/HapticGrasp/session.py" line="113"/>
         <source>off</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/session.py" line="91"/>
+        <location filename="../../plugin/freecad/HapticGrasp/session.py" line="115"/>
         <source>error: %s</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/session.py" line="92"/>
+        <location filename="../../plugin/freecad/HapticGrasp/session.py" line="116"/>
         <source>%s, %.1f MB, %d dropped</source>
         <translation type="unfinished"></translation>
     </message>
