@@ -274,47 +274,42 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="28"/>
+        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="38"/>
         <source>Haptic Grasp</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="33"/>
+        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="43"/>
         <source>Two fingers: grasp state machine (Maekawa &amp; Hollerbach)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="35"/>
+        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="45"/>
         <source>Multi-finger: grasping force kept apart from the resultant (every fingertip the device has)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="37"/>
+        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="47"/>
         <source>Grasp method:</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="38"/>
+        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="48"/>
         <source>Record sessions</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="40"/>
+        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="50"/>
         <source>Start records each session for review: &lt;document folder&gt;/&lt;document name&gt;.reviews/&lt;date_time&gt;.mcap (unsaved documents: ~/.local/share/HapticGrasp/reviews/). Nothing in the document changes.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="46"/>
-        <source>Force parameters (SI; the paper&apos;s K_c 130, B_c 100, K_g 1000, B_g 800)</source>
-        <translation type="unfinished"></translation>
-    </message>
-    <message>
-        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="60"/>
+        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="61"/>
         <source>Defaults</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="65"/>
+        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="66"/>
         <source>Read when haptics start.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -521,6 +516,46 @@
     <message>
         <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="364"/>
         <source>%.0f Hz (measured)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="23"/>
+        <source>Finger spring k:</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="23"/>
+        <source>Part spring k_d:</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="23"/>
+        <source>Friction μ:</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="23"/>
+        <source>Torque weight γ1 (0: 1/L²):</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="23"/>
+        <source>Grasp weight γ2:</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="23"/>
+        <source>Regularisation γ3:</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="59"/>
+        <source>Multi-finger method (SI; the paper's k 800, k_d 800, μ 1)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="57"/>
+        <source>Two-finger method (SI; the paper&apos;s K_c 130, B_c 100, K_g 1000, B_g 800)</source>
         <translation type="unfinished"></translation>
     </message>
 </context>

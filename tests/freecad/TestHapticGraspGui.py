@@ -275,10 +275,12 @@ class HapticGraspGui(unittest.TestCase):
             self.assertEqual(page.method.currentData(), "two-finger")
             page.spins["K_g"].setValue(1500.0)
             page.spins["d_h"].setValue(0.003)
+            page.spins["k"].setValue(1200.0)   # the multi-finger method's, on the same page
             page.method.setCurrentIndex(page.method.findData("multi-finger"))
             page.saveSettings()
             self.assertEqual(group.GetFloat("K_g"), 1500.0)
             self.assertEqual(hs.stored_parameters()["d_h"], 0.003)
+            self.assertEqual(group.GetFloat("k"), 1200.0)
             self.assertEqual(hs.stored_method(), "multi-finger")
             page.reset()
             self.assertEqual(page.spins["K_g"].value(), 1000.0)

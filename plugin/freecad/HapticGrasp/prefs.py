@@ -1,6 +1,6 @@
 """The preferences page "Haptic Grasp" (Edit > Preferences): the grasp method, the force
-parameters of the two-finger grasp, SI, and whether sessions are recorded, stored in App.ParamGet(session.PARAMETER_PATH) and
-read by HapticSession.start().
+parameters of the two-finger and the multi-finger methods (SI), and whether sessions are
+recorded, stored in App.ParamGet(session.PARAMETER_PATH) and read by HapticSession.start().
 Registered from init_gui.py with Gui.addPreferencePage(HapticGraspPreferences, "Haptic Grasp");
 FreeCAD instantiates the class, shows `form` and calls loadSettings()/saveSettings()."""
 from FreeCAD import Qt
@@ -8,7 +8,7 @@ from FreeCAD import Qt
 translate = Qt.translate                   # what the user reads goes through these (FreeCAD's
 QT_TRANSLATE_NOOP = Qt.QT_TRANSLATE_NOOP   # convention; pylupdate5 collects them)
 
-# (key, label, unit, decimals, maximum, step)
+# (key, label, unit, decimals, maximum, step): the two-finger method's force laws [MH] ...
 FIELDS = (
     ("K_c", QT_TRANSLATE_NOOP("HapticGrasp", "Contact stiffness K_c:"), "N/m^0.5", 2, 1e7, 10.0),
     ("B_c", QT_TRANSLATE_NOOP("HapticGrasp", "Contact damping B_c:"), "N s/m^1.5", 2, 1e7, 10.0),
@@ -17,6 +17,16 @@ FIELDS = (
     ("d_h", QT_TRANSLATE_NOOP("HapticGrasp", "Grasp hysteresis d_h:"), "m", 5, 0.1, 0.0005),
     ("K_ox", QT_TRANSLATE_NOOP("HapticGrasp", "Holding stiffness K_ox:"), "N/m", 2, 1e7, 100.0),
     ("K_oe", QT_TRANSLATE_NOOP("HapticGrasp", "Holding rotational stiffness K_oe:"), "N m/rad", 3, 1e6, 1.0),
+)
+# ... and the multi-finger method's springs, friction and distribution weights [RF eq 19]
+# (session.PARAMETER_KEYS; gamma1 0 lets the core use 1/L^2, L the grasp's size).
+MULTI_FINGER_FIELDS = (
+    ("k", QT_TRANSLATE_NOOP("HapticGrasp", "Finger spring k:"), "N/m", 1, 1e7, 100.0),
+    ("k_d", QT_TRANSLATE_NOOP("HapticGrasp", "Part spring k_d:"), "N/m", 1, 1e7, 100.0),
+    ("mu", QT_TRANSLATE_NOOP("HapticGrasp", "Friction μ:"), "", 3, 100.0, 0.1),
+    ("gamma1", QT_TRANSLATE_NOOP("HapticGrasp", "Torque weight γ1 (0: 1/L²):"), "1/m²", 3, 1e9, 1.0),
+    ("gamma2", QT_TRANSLATE_NOOP("HapticGrasp", "Grasp weight γ2:"), "", 6, 1e3, 0.001),
+    ("gamma3", QT_TRANSLATE_NOOP("HapticGrasp", "Regularisation γ3:"), "", 9, 1.0, 1e-6),
 )
 
 
@@ -43,20 +53,11 @@ class HapticGraspPreferences:
                                                         "document changes."))
         methods.addRow(self.record)
         layout.addLayout(methods)
-        box = QtGui.QGroupBox(translate("HapticGrasp", "Force parameters (SI; the paper's K_c 130, B_c 100, "
-                                                       "K_g 1000, B_g 800)"))
-        grid = QtGui.QFormLayout(box)
         self.spins = {}
-        for key, label, unit, decimals, maximum, step in FIELDS:
-            spin = QtGui.QDoubleSpinBox()
-            spin.setObjectName("HapticGrasp_Pref_" + key)
-            spin.setDecimals(decimals)
-            spin.setRange(0.0, maximum)
-            spin.setSingleStep(step)
-            spin.setSuffix(" " + unit)
-            grid.addRow(translate("HapticGrasp", label), spin)
-            self.spins[key] = spin
-        layout.addWidget(box)
+        self._add_group(layout, translate("HapticGrasp", "Two-finger method (SI; the paper's K_c 130, B_c 100, "
+                                                         "K_g 1000, B_g 800)"), FIELDS)
+        self._add_group(layout, translate("HapticGrasp", "Multi-finger method (SI; the paper's k 800, k_d 800, "
+                                                         "μ 1)"), MULTI_FINGER_FIELDS)
         reset = QtGui.QPushButton(translate("HapticGrasp", "Defaults"))
         reset.setObjectName("HapticGrasp_Pref_Defaults")
         reset.clicked.connect(self.reset)
@@ -64,6 +65,23 @@ class HapticGraspPreferences:
         layout.addStretch(1)
         note = QtGui.QLabel(translate("HapticGrasp", "Read when haptics start."))
         layout.addWidget(note)
+
+    def _add_group(self, layout, title, fields):
+        """A group box of spin boxes, one per field, kept in self.spins by key."""
+        from PySide import QtGui
+        box = QtGui.QGroupBox(title)
+        grid = QtGui.QFormLayout(box)
+        for key, label, unit, decimals, maximum, step in fields:
+            spin = QtGui.QDoubleSpinBox()
+            spin.setObjectName("HapticGrasp_Pref_" + key)
+            spin.setDecimals(decimals)
+            spin.setRange(0.0, maximum)
+            spin.setSingleStep(step)
+            if unit:
+                spin.setSuffix(" " + unit)
+            grid.addRow(translate("HapticGrasp", label), spin)
+            self.spins[key] = spin
+        layout.addWidget(box)
 
     def _show(self, values):
         for key, spin in self.spins.items():
