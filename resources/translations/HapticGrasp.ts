@@ -29,7 +29,7 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="227"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="228"/>
         <source>Add note</source>
         <translation type="unfinished"></translation>
     </message>
@@ -100,11 +100,6 @@
     </message>
     <message>
         <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="22"/>
-        <source>Servo jitter:</source>
-        <translation type="unfinished"></translation>
-    </message>
-    <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="22"/>
         <source>Servo time:</source>
         <translation type="unfinished"></translation>
     </message>
@@ -129,112 +124,112 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="72"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="73"/>
         <source>No SpaceMouse or HID device attached (plug one in, then reopen this panel).</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="75"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="76"/>
         <source>%d HID device(s) attached, none a SpaceMouse or matched by a layout in &lt;FreeCAD user data&gt;/HapticGrasp/devices/.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="143"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="144"/>
         <source>Mouse and keyboard: move the mouse to move the hand in the view plane, wheel for depth, hold G to pinch, Esc cancels. Simulated arm: the same keys move the target of a simulated operator who drives the simulated master arm; the grasp feels the arm&apos;s fingertips</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="185"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="186"/>
         <source>%s (not attached)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="140"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="141"/>
         <source>Input:</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="216"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="217"/>
         <source>Start</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="219"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="220"/>
         <source>Stop</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="229"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="230"/>
         <source>A short note for the reviewer, in the recording at this moment, about the part under the hand (N)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="278"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="279"/>
         <source>stopped</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="289"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="290"/>
         <source>%v / %m parts</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="290"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="291"/>
         <source>Cancel</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="312"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="313"/>
         <source>building models</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="318"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="319"/>
         <source>Building %s (%d of %d)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="320"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="321"/>
         <source>Built %d of %d parts</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="329"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="330"/>
         <source>Rebuilding %s (swapped in when no part is held)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="344"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="363"/>
         <source>(fault: %s)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="352"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="371"/>
         <source>(not displayed: input-only device)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="364"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="383"/>
         <source>measuring…</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="373"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="393"/>
         <source>%d of %d parts</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="373"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="393"/>
         <source>%d of %d parts (the others felt as their boxes until built)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="378"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="398"/>
         <source>on</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="378"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="398"/>
         <source>silent (no audio output ready)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -499,22 +494,22 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="62"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="63"/>
         <source>SpaceMouse, %s</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="63"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="64"/>
         <source>HID layout %s, %s</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="154"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="155"/>
         <source>%s (unavailable)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="364"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="383"/>
         <source>%.0f Hz (measured)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -556,6 +551,36 @@
     <message>
         <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="57"/>
         <source>Two-finger method (SI; the paper&apos;s K_c 130, B_c 100, K_g 1000, B_g 800)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="22"/>
+        <source>Period error p99:</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="22"/>
+        <source>Real time:</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="343"/>
+        <source>SCHED_FIFO, memory locked</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="343"/>
+        <source>SCHED_FIFO, memory not locked</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="347"/>
+        <source>refused: the rate may suffer (tool tip, report view)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="350"/>
+        <source>not asked for (preferences)</source>
         <translation type="unfinished"></translation>
     </message>
 </context>

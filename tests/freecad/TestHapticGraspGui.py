@@ -126,10 +126,13 @@ class HapticGraspGui(unittest.TestCase):
                     seen["panel_part"] = fields["part"].text()
                     controller.panel.form.grab().save(SCREENSHOT.replace(".png", "_panel.png"))
                 if controller.session.core.snapshot()["time_s"] > 2.5:
+                    seen["timing"] = controller.session.servo_timing()   # the real workbench's servo
+                    seen["realtime_text"] = controller.panel.fields["realtime"].text()
                     Gui.runCommand("HapticGrasp_Stop")
             self.assertIsNone(controller.session)
             QtWidgets.QApplication.processEvents()
         self.assertEqual(log.errors, [])
+        self._write_servo_timing(seen["timing"], seen["realtime_text"])
         self.assertTrue(seen["overlay"], "the overlay was never in the scene graph")
         self.assertTrue(seen["panel"], "the task panel was never shown")
         self.assertIn("MANIPULATE", seen["states"])
@@ -157,6 +160,26 @@ class HapticGraspGui(unittest.TestCase):
         doc.undo()
         self.assertTrue(hs.same_placement(cylinder.Placement, before))
         App.closeDocument(doc.Name)
+
+    def _write_servo_timing(self, timing, panel_text):
+        """The workbench's own servo timing under Xvfb and the software renderer, to
+        build/freecad/gui-servo-timing.json (README's figure next to the benchmark's): at
+        least 99 % of the 2 kHz default when SCHED_FIFO was granted, and the panel says
+        what the thread got."""
+        import json
+        figures = {"target_hz": timing["target_hz"], "achieved_hz": timing["achieved_hz"],
+                   "period_err_us": timing["period_err_us"], "scheduler": timing["scheduler"],
+                   "memory_lock": timing["memory_lock"], "ticks": timing["ticks"]}
+        with open(os.path.join(os.path.dirname(SCREENSHOT_DIR), "gui-servo-timing.json"), "w") as f:
+            json.dump(figures, f, indent=2)
+        App.Console.PrintMessage("HapticGrasp GUI servo: %s\n" % json.dumps(figures))
+        self.assertEqual(timing["target_hz"], 2000.0)
+        if timing["scheduler"] == "SCHED_FIFO":
+            self.assertGreaterEqual(timing["achieved_hz"], 0.99 * 2000.0, figures)
+            self.assertTrue(panel_text.startswith("SCHED_FIFO"), panel_text)
+        else:
+            self.assertTrue(timing["advice"], timing)
+            self.assertTrue(panel_text.startswith("refused"), panel_text)
 
     def test_start_runs_the_servo_at_once_and_builds_the_models_behind_it(self):
         from PySide2 import QtWidgets

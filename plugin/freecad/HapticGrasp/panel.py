@@ -1,5 +1,5 @@
 """Task panel of a haptic session (Gui.Control.showDialog): state, fingertip forces,
-grasping force, servo rate and jitter, the recording, Start/Stop and Add note (N). Filled from the controller's timer tick."""
+grasping force, servo rate, period error and real time, the recording, Start/Stop and Add note (N). Filled from the controller's timer tick."""
 import os
 import time
 
@@ -27,7 +27,8 @@ FIELDS = (
     ("thumb", QT_TRANSLATE_NOOP("HapticGrasp", "Thumb force:")),
     ("grip", QT_TRANSLATE_NOOP("HapticGrasp", "Grasping force:")),
     ("rate", QT_TRANSLATE_NOOP("HapticGrasp", "Servo rate:")),
-    ("jitter", QT_TRANSLATE_NOOP("HapticGrasp", "Servo jitter:")),
+    ("jitter", QT_TRANSLATE_NOOP("HapticGrasp", "Period error p99:")),
+    ("realtime", QT_TRANSLATE_NOOP("HapticGrasp", "Real time:")),
     ("time", QT_TRANSLATE_NOOP("HapticGrasp", "Servo time:")),
     ("moves", QT_TRANSLATE_NOOP("HapticGrasp", "Moves / faults:")),
     ("models", QT_TRANSLATE_NOOP("HapticGrasp", "Exact models:")),
@@ -334,6 +335,24 @@ class HapticTaskPanel:
         from . import session as hs
         self.fields["recording"].setText(hs.recording_text(session.recording_status() if session else None))
 
+    def show_realtime(self, timing):
+        """The Real time field: what the servo thread asked for and got; refused, the why and
+        the fix in the tool tip (and in the report view, said once at Start)."""
+        field = self.fields["realtime"]
+        if timing["realtime"]:
+            text = (translate("HapticGrasp", "SCHED_FIFO, memory locked") if timing["memory_lock"] == "mlockall"
+                    else translate("HapticGrasp", "SCHED_FIFO, memory not locked"))
+            tip = timing["memory_lock"]
+        elif timing["advice"]:
+            text = translate("HapticGrasp", "refused: the rate may suffer (tool tip, report view)")
+            tip = timing["advice"]
+        else:
+            text = translate("HapticGrasp", "not asked for (preferences)")
+            tip = timing["scheduler"]
+        if field.text() != text:
+            field.setText(text)
+            field.setToolTip(tip)
+
     def set(self, key, text):
         self.fields[key].setText(text)
 
@@ -367,6 +386,7 @@ class HapticTaskPanel:
             f["rate"].setText("%.0f Hz" % rate)
         jitter = snap.get("jitter_us")
         f["jitter"].setText("%.1f µs" % jitter if jitter is not None else translate("HapticGrasp", NOT_EXPOSED))
+        self.show_realtime(session.servo_timing())
         f["time"].setText("%.2f s (tick %d)" % (snap.get("time_s", 0.0), snap.get("tick", 0)))
         f["moves"].setText("%d / %d" % (session.moves, snap.get("faults", 0)))
         exact, parts = snap.get("exact_parts", 0), len(session.parts)
