@@ -209,7 +209,10 @@ class HapticGraspGui(unittest.TestCase):
             self.assertFalse(panel.start_button.isEnabled())
             self.assertTrue(panel.stop_button.isEnabled())
             controller.timer.timeout.connect(count)
-            deadline = began + 120
+            # The builders run at SCHED_IDLE: on this 2-core machine with a software renderer
+            # and another test beside this one they get the leftovers (measured: 50 s quiet,
+            # 3 of 5 plates in 120 s under load). Time is not what this test asserts.
+            deadline = began + 300
             loop_times = [time.monotonic()]
             while time.monotonic() < deadline:
                 QtWidgets.QApplication.processEvents()   # the GUI thread stays free

@@ -10,5 +10,5 @@ home=$(mktemp -d)
 trap 'rm -rf "$home"' EXIT INT TERM
 mkdir -p "$home/.local/share/FreeCAD/Mod"
 ln -s "$addon" "$home/.local/share/FreeCAD/Mod/HapticGrasp"
-HOME="$home" QTWEBENGINE_DISABLE_SANDBOX=1 timeout -k 10 300 \
+HOME="$home" QTWEBENGINE_DISABLE_SANDBOX=1 timeout -k 10 840 \
   xvfb-run -a -s "-screen 0 1280x1024x24" "$freecad" -t "$module"
