@@ -210,8 +210,9 @@ class HapticGraspGui(unittest.TestCase):
             self.assertTrue(panel.stop_button.isEnabled())
             controller.timer.timeout.connect(count)
             # The builders run at SCHED_IDLE: on this 2-core machine with a software renderer
-            # and another test beside this one they get the leftovers (measured: 50 s quiet,
-            # 3 of 5 plates in 120 s under load). Time is not what this test asserts.
+            # and another test beside this one they get the leftovers (measured: 14-50 s,
+            # and 188 s while the servo's mlockall still populated every new mapping). Time
+            # is not what this test asserts.
             deadline = began + 300
             loop_times = [time.monotonic()]
             while time.monotonic() < deadline:

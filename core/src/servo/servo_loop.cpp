@@ -183,12 +183,17 @@ void ServoLoop::run() noexcept {
     param.sched_priority = config_.fifoPriority;
     const int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param);
     scheduler_ = rc == 0 ? "SCHED_FIFO" : "SCHED_OTHER (" + errorText(rc) + ")";
-    if (mlockall(MCL_CURRENT | MCL_FUTURE) == 0) {
-      locked_ = true;
-      memoryLock_ = "mlockall";
-    } else {
+    // Everything mapped now is locked and made resident (the loop's state, its stack, the
+    // models); what is mapped later is locked as it is first touched (MCL_ONFAULT), not
+    // populated whole at mmap time: with plain MCL_FUTURE, FreeCAD's model builders ran 5x
+    // slower beside the servo (measured: five 1,030-face plates in 188 s instead of 37 s).
+    locked_ = mlockall(MCL_CURRENT) == 0;  // undone at exit even if the second call fails
+    if (!locked_)
       memoryLock_ = "none (" + errorText(errno) + ")";
-    }
+    else if (mlockall(MCL_FUTURE | MCL_ONFAULT) == 0)
+      memoryLock_ = "mlockall";
+    else
+      memoryLock_ = "current pages only (" + errorText(errno) + ")";
   } else {
     scheduler_ = "SCHED_OTHER (not requested)";
     memoryLock_ = "none (not requested)";

@@ -14,7 +14,8 @@
 // Timing: clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME) on absolute deadlines k*T; the
 // grasp gets the MEASURED dt; a tick that ends after its successor's deadline makes the
 // loop skip to the next deadline after now (no catching up), and each skipped tick counts
-// as an overrun. The thread asks for SCHED_FIFO and mlockall(MCL_CURRENT|MCL_FUTURE) and
+// as an overrun. The thread asks for SCHED_FIFO and mlockall (current pages, and future ones
+// as they are first touched: MCL_FUTURE | MCL_ONFAULT) and
 // records what it got (see scheduler()); without privilege it runs SCHED_OTHER and says so.
 //
 // Watchdog: no new sample for longer than spec().timeout_s, or a sample with NaN/Inf,
