@@ -4,7 +4,7 @@ core.open_review (one streaming pass over the file) and 1,000 seeks (the frame a
 every moved part's placement), and prints the process's peak resident memory. Prints
 figures, asserts nothing.
 
-Usage: python3 tests/bench/review_open.py build/freecad/HapticGrasp FILE.mcap [...]"""
+Usage: python3 tests/bench/review_open.py build/freecad/HapticGrasp/freecad/hapticgrasp FILE.mcap [...]"""
 import os
 import resource
 import sys
