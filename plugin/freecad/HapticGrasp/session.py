@@ -1260,7 +1260,9 @@ def layout_dirs():
     """Where HID layouts (*.json) are looked for: the package's devices/ folder, then the
     user's <FreeCAD user data>/HapticGrasp/devices/."""
     import os
-    here = os.path.dirname(os.path.realpath(core.__file__))
+    # The package's own folder, not the compiled module's: installed from the .deb the module
+    # is in Python's dist-packages and the layouts stay with the workbench.
+    here = os.path.dirname(os.path.realpath(__file__))
     return [os.path.join(here, "devices"), os.path.join(App.getUserAppDataDir(), "HapticGrasp", "devices")]
 
 
