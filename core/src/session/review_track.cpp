@@ -46,7 +46,8 @@ class PoseKeys {
       moving_.clear();
     }
     const int n = std::min(r.movingCount, servo::TickRecord::kMaxMoving);
-    std::vector<int> now;
+    std::vector<int>& now = now_;  // reused: one allocation per file, not per tick
+    now.clear();
     for (int k = 0; k < n; ++k) {
       const int part = r.movingPart[k];
       if (part < 0 || static_cast<std::size_t>(part) >= last_.size()) continue;
@@ -58,7 +59,7 @@ class PoseKeys {
     for (const int part : moving_)
       if (std::find(now.begin(), now.end(), part) == now.end())
         track_.poses[static_cast<std::size_t>(part)].push_back({t, last_[static_cast<std::size_t>(part)]});
-    moving_ = std::move(now);
+    moving_.swap(now);
   }
   // The last tick: the parts still moving get their pose then, so the end is exact too.
   void finish(double t) {
@@ -71,7 +72,7 @@ class PoseKeys {
  private:
   ReviewTrack& track_;
   std::vector<grasp::PartPose> last_;
-  std::vector<int> moving_;
+  std::vector<int> moving_, now_;
 };
 
 double seconds(std::uint64_t t, std::uint64_t origin) { return t > origin ? 1e-9 * static_cast<double>(t - origin) : 0.0; }
