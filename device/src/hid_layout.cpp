@@ -12,6 +12,8 @@
 #include <set>
 #include <sstream>
 
+#include "hapticgrasp/install_layout.hpp"
+
 namespace hg::device {
 namespace {
 
@@ -431,7 +433,7 @@ HidLayoutSet loadHidLayoutDirectory(const std::filesystem::path& directory) {
 }
 
 std::filesystem::path defaultHidLayoutDirectory() {
-  return std::filesystem::path(HG_SOURCE_RESOURCES_DIR) / "devices";
+  return hg::resourcesDir() / "devices";
 }
 
 double decodeHidValue(const std::uint8_t* p, HidFieldType type, HidEndian endian) noexcept {

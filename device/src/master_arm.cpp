@@ -10,9 +10,8 @@
 #include <kdl_parser/kdl_parser.hpp>
 #include <urdf_parser/urdf_parser.h>
 
-#ifndef HG_SOURCE_RESOURCES_DIR
-#define HG_SOURCE_RESOURCES_DIR "resources"
-#endif
+#include "hapticgrasp/install_layout.hpp"
+
 
 namespace hg::device {
 
@@ -50,7 +49,7 @@ std::array<int, kArmJoints> columnsOf(const KDL::Chain& chain, const std::string
 const std::array<const char*, kArmJoints>& ArmModel::jointNames() { return kJointNames; }
 
 std::string ArmModel::defaultUrdfPath() {
-  return std::string(HG_SOURCE_RESOURCES_DIR) + "/arms/master_arm.urdf";
+  return (hg::resourcesDir() / "arms" / "master_arm.urdf").string();
 }
 
 std::shared_ptr<const ArmModel> ArmModel::fromFile(const std::string& urdfPath) {

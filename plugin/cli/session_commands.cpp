@@ -9,8 +9,11 @@
 #include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "device_commands.hpp"
+#include "hapticgrasp/install_layout.hpp"
 #include "hapticgrasp/session/recording.hpp"
 #include "hapticgrasp/session/replay.hpp"
 
@@ -62,19 +65,52 @@ int replay(const std::string& path, bool check, bool json) {
 }
 
 // The report is drawn by Python's matplotlib (Debian's) from what the core's reader gives
-// through the _hapticgrasp module: report.py beside the module in the workbench's folder.
+// through the _hapticgrasp module: the workbench's freecad.hapticgrasp.report, run as a module
+// so that it imports the compiled core as the workbench does. In the build tree the addon folder
+// holds both; installed, the Python files are in FreeCAD's Mod folder and the compiled module in
+// the prefix's dist-packages, which the package's __init__ joins (pkgutil.extend_path).
+struct ReportRun {
+  std::vector<std::string> argv;  // before the recording's path
+  std::string pythonPath;         // empty: leave PYTHONPATH as it is
+};
+
+ReportRun reportRun() {
+  if (const char* script = std::getenv("HAPTICGRASP_REPORT_SCRIPT"); script && *script)
+    return {{HG_PYTHON, script}, ""};
+  std::filesystem::path addon = HG_FREECAD_ADDON_DIR;
+  std::string pythonPath = addon.string();
+  if (const auto prefix = hg::installPrefix()) {
+    addon = *prefix / "share" / "freecad" / "Mod" / "HapticGrasp";
+    pythonPath = addon.string() + ":" + (*prefix / "lib" / "python3" / "dist-packages").string();
+  }
+  if (!std::filesystem::exists(addon / "freecad" / "hapticgrasp" / "report.py"))
+    throw std::runtime_error("report: the workbench's report.py is not in " + addon.string() +
+                             " (build the _hapticgrasp module, install the package, or set HAPTICGRASP_REPORT_SCRIPT)");
+  if (const char* inherited = std::getenv("PYTHONPATH"); inherited && *inherited) pythonPath += std::string(":") + inherited;
+  return {{HG_PYTHON, "-m", "freecad.hapticgrasp.report"}, pythonPath};
+}
+
 int report(const std::string& path, const std::string& output) {
-  std::filesystem::path script = HG_FREECAD_PACKAGE_DIR "/report.py";
-  if (const char* override = std::getenv("HAPTICGRASP_REPORT_SCRIPT")) script = override;
-  if (!std::filesystem::exists(script))
-    throw std::runtime_error("report: " + script.string() + " is missing (build the _hapticgrasp module, or set "
-                             "HAPTICGRASP_REPORT_SCRIPT)");
+  ReportRun run = reportRun();
   std::filesystem::path out = output;
+  // argv and the environment are built before fork: the child only execs.
+  std::vector<std::string> args = run.argv;
+  args.insert(args.end(), {path, "-o", out.string()});
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  std::vector<std::string> env;
+  for (char** e = environ; *e; ++e)
+    if (run.pythonPath.empty() || std::strncmp(*e, "PYTHONPATH=", 11) != 0) env.emplace_back(*e);
+  if (!run.pythonPath.empty()) env.push_back("PYTHONPATH=" + run.pythonPath);
+  std::vector<char*> envp;
+  for (std::string& e : env) envp.push_back(e.data());
+  envp.push_back(nullptr);
   const pid_t child = fork();
   if (child < 0) throw std::runtime_error(std::string("report: cannot start python3: ") + std::strerror(errno));
   if (child == 0) {
     // The Python the _hapticgrasp module was built for (Debian's, with its matplotlib).
-    execlp(HG_PYTHON, HG_PYTHON, script.c_str(), path.c_str(), "-o", out.c_str(), static_cast<char*>(nullptr));
+    execve(HG_PYTHON, argv.data(), envp.data());
     std::fprintf(stderr, "hapticgrasp: report: cannot run " HG_PYTHON ": %s\n", std::strerror(errno));
     _exit(127);
   }

@@ -2,18 +2,13 @@
 
 #include <nlohmann/json.hpp>
 
-#include <cstdlib>
+#include "hapticgrasp/install_layout.hpp"
+
 #include <fstream>
 
 namespace hg::geometry {
 
-std::filesystem::path resourcesDir() {
-  if (const char* env = std::getenv("HAPTICGRASP_RESOURCES"); env && *env) return env;
-#ifdef HG_SOURCE_RESOURCES_DIR
-  if (std::filesystem::exists(HG_SOURCE_RESOURCES_DIR)) return HG_SOURCE_RESOURCES_DIR;
-#endif
-  return "/usr/share/hapticgrasp";
-}
+std::filesystem::path resourcesDir() { return hg::resourcesDir(); }
 
 std::vector<SamplePart> sampleParts() {
   const std::filesystem::path dir = resourcesDir() / "parts";

@@ -1,7 +1,9 @@
 # -*- coding: utf-8 -*-
 """The report of a recorded design-review session: one self-contained HTML page.
 
-    python3 report.py SESSION.mcap -o REPORT.html      (what `hapticgrasp report` runs)
+    python3 -m freecad.hapticgrasp.report SESSION.mcap -o REPORT.html
+                                   (what `hapticgrasp report` runs, the addon folder on PYTHONPATH)
+    python3 report.py SESSION.mcap -o REPORT.html      (from the build tree's package folder)
 
 The recording is read by the core's reader through the _hapticgrasp module
 (read_session_series: one streaming pass, series reduced to bins that keep each bin's

@@ -16,8 +16,8 @@ struct SamplePart {
   MassSpec mass;
 };
 
-// $HAPTICGRASP_RESOURCES if set, else the resources/ folder of the source tree, else the
-// installed share folder.
+// hg::resourcesDir() (install_layout.hpp): $HAPTICGRASP_RESOURCES, the source tree's resources/
+// for a build-tree binary, the installed share folder for an installed one.
 std::filesystem::path resourcesDir();
 std::vector<SamplePart> sampleParts();  // throws GeometryError if parts.json is missing or broken
 // A sample part by name, or any .brep/.step file (mass: density 1000 kg/m^3, unit mm).
