@@ -8,12 +8,7 @@
 namespace hg::device {
 namespace {
 
-struct Model {
-  std::uint16_t vid, pid;
-  const char* name;
-};
-
-constexpr Model kModels[] = {
+constexpr SpaceMouseModel kModels[] = {
     {0x046d, 0xc603, "SpaceMouse Plus XT"},
     {0x046d, 0xc605, "CadMan"},
     {0x046d, 0xc606, "SpaceMouse Classic"},
@@ -53,9 +48,11 @@ double monotonicSeconds() noexcept {
 
 const char* spaceMouseModel(std::uint16_t vendor_id, std::uint16_t product_id) noexcept {
   for (const auto& m : kModels)
-    if (m.vid == vendor_id && m.pid == product_id) return m.name;
+    if (m.vendor_id == vendor_id && m.product_id == product_id) return m.name;
   return nullptr;
 }
+
+std::span<const SpaceMouseModel> spaceMouseModels() noexcept { return kModels; }
 
 bool SpaceMouseParser::parse(const std::uint8_t* data, std::size_t size) noexcept {
   if (!data || size == 0) {

@@ -16,6 +16,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 
 #include "hapticgrasp/device/device.hpp"
@@ -25,6 +26,13 @@ namespace hg::device {
 
 // The known SpaceMouse family by USB vendor/product ID; null when not a SpaceMouse.
 const char* spaceMouseModel(std::uint16_t vendor_id, std::uint16_t product_id) noexcept;
+
+struct SpaceMouseModel {
+  std::uint16_t vendor_id, product_id;
+  const char* name;
+};
+// Every model spaceMouseModel() knows (the udev rule grants access to each).
+std::span<const SpaceMouseModel> spaceMouseModels() noexcept;
 
 struct SpaceMouseStats {
   std::uint64_t accepted = 0;    // reports parsed
