@@ -372,6 +372,7 @@ ServoBenchResult runServoBench(const ServoBenchOptions& options) {
   BenchSetup setup = options.device == "arm" ? armSetup(model, sample.mass, backend)
                                              : scriptedSetup(model, sample.mass, backend, paperCylinder,
                                                              multiFinger ? fingers : 0);
+  if (options.wrapDevice) setup.device = options.wrapDevice(setup.device);
   std::unique_ptr<GraspEngine> engine;
   if (multiFinger)
     engine = std::make_unique<MultiFingerEngine>(setup.scene, fingers);
@@ -391,6 +392,7 @@ ServoBenchResult runServoBench(const ServoBenchOptions& options) {
   bool armed = true;
   while (std::chrono::steady_clock::now() < end) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    if (options.poll) options.poll(*setup.scene, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     // Once per cycle, with the hand open and away, a ResetGrasp puts the part back exactly
     // (the GUI's path into the loop, exercised here too).
     const double t = setup.phase();
@@ -429,6 +431,7 @@ ServoBenchResult runServoBench(const ServoBenchOptions& options) {
   r.grasps = snapshot.eventTotals[4];  // grasp::kGrasp
   r.lifts = snapshot.eventTotals[5];   // grasp::kLift
   r.watchdog_trips = snapshot.watchdog.trips;
+  r.watchdog_clears = snapshot.eventTotals[17];  // kWatchdogClear
   return r;
 }
 

@@ -28,6 +28,8 @@
 // a thread_local count, linked into the executable only (include
 // hapticgrasp/servo/malloc_counter.hpp in exactly one translation unit of it and pass
 // hg::servo::threadAllocations). Without one it is -1 ("not measured").
+#include <functional>
+#include <memory>
 #include <string>
 
 #include "hapticgrasp/grasp/hand_script.hpp"
@@ -46,6 +48,11 @@ struct ServoBenchOptions {
   int fingers = 2;                // fingertips of the multi-finger method (1-5; the arm has 2)
   AllocationCounter allocationCounter = nullptr;
   std::string recordPath;         // non-empty: record the session there (MCAP, session/recorder.hpp)
+  // For the soak (servo/soak.hpp): the device the loop gets, made from the bench's own (unset:
+  // the bench's), and a call every 10 ms from the bench's own thread with the scene and the
+  // seconds since the loop started (the soak swaps a model there).
+  std::function<std::shared_ptr<device::Device>(std::shared_ptr<device::Device>)> wrapDevice;
+  std::function<void(const grasp::Scene&, double)> poll;
 };
 
 // What recording cost and wrote (`bench servo --record`, `record`).
@@ -79,6 +86,7 @@ struct ServoBenchResult {
   std::uint64_t grasps = 0;     // kGrasp events seen (the script did grasp)
   std::uint64_t lifts = 0;      // kLift events
   std::uint64_t watchdog_trips = 0;
+  std::uint64_t watchdog_clears = 0;  // kWatchdogClear events: good samples resumed
   RecordingResult recording;
 };
 

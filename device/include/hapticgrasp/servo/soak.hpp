@@ -1,0 +1,63 @@
+#pragma once
+// `hapticgrasp soak --minutes M`: the REAL servo thread at 2 kHz for M minutes, over the
+// sample parts in turn (cylinder, block, loft, plate), with both grasp methods in turn
+// (two-finger; multi-finger with three fingertips), in segments of up to a minute: each is
+// the servo benchmark (servo_bench.hpp) with its scripted hand grasping, lifting and putting
+// the part down, that hand wandering (FaultInjectingDevice), and the faults a real session
+// meets injected at random: silence, NaN and Inf samples, stalls of 5-50 ms inside read(),
+// the device unplugged and back, and the part's model swapped mid-session (a new back end
+// published as the workbench's background build does); every segment is recorded (MCAP).
+// What it judges: every fault handled (fault_injecting_device.hpp), no NaN out, no
+// allocation on the servo thread, memory flat once every part and method has been met.
+#include <array>
+#include <cstdint>
+#include <string>
+
+#include "hapticgrasp/device/fault_injecting_device.hpp"
+#include "hapticgrasp/servo/servo_loop.hpp"
+
+namespace hg::servo {
+
+struct SoakOptions {
+  double minutes = 1;
+  double rate_hz = 2000;
+  bool realtime = true;
+  std::uint64_t seed = 1;
+  double faultsPerMinute = 30;  // device faults; plus a model swap in every segment
+  bool record = true;           // record each segment (deleted once summed up)
+  std::string recordDir;        // empty: a private folder under $TMPDIR
+  AllocationCounter allocationCounter = nullptr;
+};
+
+struct SoakResult {
+  double seconds = 0;
+  int segments = 0;
+  std::uint64_t ticks = 0;
+  std::uint64_t nan_outputs = 0;
+  std::uint64_t unbounded_outputs = 0;
+  long allocations = -1;  // on the servo threads, summed; -1: not measured
+  std::array<std::uint64_t, device::kFaultKinds> injected{}, handled{};
+  std::uint64_t faults_injected = 0, faults_handled = 0;
+  std::int64_t rss_growth_bytes = 0;  // resident memory at the end less after the first round of parts and methods
+  std::int64_t rss_bytes = 0;         // at the end
+  double max_period_err_us = 0;       // as the loop measured it, the injected stalls included
+  double max_period_err_unstalled_us = 0;  // the tick after each stall left out
+  double achieved_hz_min = 0;
+  std::uint64_t grasps = 0, lifts = 0, watchdog_trips = 0, watchdog_clears = 0;
+  std::uint64_t recorded_bytes = 0, dropped_records = 0;
+  std::string recording_error;  // the first, if any
+  std::string scheduler;
+  bool passed() const;          // zero NaN, zero allocations, every fault handled, growth < 2 MB
+};
+
+// Throws std::invalid_argument for minutes outside (0, 1440] or a bad rate.
+SoakResult runSoak(const SoakOptions& options);
+
+// {"seconds", "segments", "ticks", "nan_outputs", "unbounded_outputs", "allocations",
+//  "faults_injected", "faults_handled", "faults": {kind: {"injected", "handled"}},
+//  "rss_growth_bytes", "rss_bytes", "max_period_err_us", "max_period_err_unstalled_us",
+//  "achieved_hz_min", "grasps", "lifts", "watchdog_trips", "watchdog_clears",
+//  "recording": {"bytes", "dropped_records", "error"}, "scheduler", "passed"}
+std::string toJson(const SoakResult& result, int indent = 2);
+
+}  // namespace hg::servo

@@ -1,0 +1,168 @@
+#include "hapticgrasp/servo/soak.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <random>
+#include <stdexcept>
+
+#include "hapticgrasp/servo/servo_bench.hpp"
+
+namespace hg::servo {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kParts[] = {"cylinder", "block", "loft", "plate"};
+constexpr int kRound = 2 * 4;  // every part with both methods
+
+std::int64_t residentBytes() {
+  std::ifstream statm("/proc/self/statm");
+  std::int64_t size = 0, resident = 0;
+  statm >> size >> resident;
+  return resident * sysconf(_SC_PAGESIZE);
+}
+
+// The swap the workbench makes when a part's model is rebuilt: the same part answered by
+// another back end (mesh, then the default again). Built ahead (a loft's mesh takes seconds),
+// published at its time.
+grasp::ScenePart swapModel(const grasp::Scene& scene, int swaps) {
+  grasp::ScenePart part = scene.part(0);
+  if (!part.model) return part;
+  const geometry::Backend backend = swaps % 2 == 0 ? geometry::Backend::Mesh : geometry::Backend::Auto;
+  part.penetration = grasp::makeScenePart(part.model, geometry::MassSpec::mass(part.mass.mass_kg), part.initialPose,
+                                          backend).penetration;
+  return part;
+}
+
+void add(SoakResult& r, const ServoBenchResult& b, const device::FaultReport& f) {
+  r.ticks += b.ticks;
+  if (r.allocations >= 0 && b.allocations_in_loop >= 0) r.allocations += b.allocations_in_loop;
+  if (b.allocations_in_loop < 0) r.allocations = -1;
+  r.nan_outputs += f.nanOutputs;
+  r.unbounded_outputs += f.unboundedOutputs;
+  for (int k = 0; k < device::kFaultKinds; ++k) {
+    r.injected[k] += f.injected[k];
+    r.handled[k] += f.handled[k];
+  }
+  r.max_period_err_us = std::max(r.max_period_err_us, b.period_err.max_us);
+  r.max_period_err_unstalled_us = std::max(r.max_period_err_unstalled_us, f.maxPeriodErrUnstalled_us);
+  r.achieved_hz_min = r.segments == 0 ? b.achieved_hz : std::min(r.achieved_hz_min, b.achieved_hz);
+  r.grasps += b.grasps;
+  r.lifts += b.lifts;
+  r.watchdog_trips += b.watchdog_trips;
+  r.watchdog_clears += b.watchdog_clears;
+  r.recorded_bytes += b.recording.bytes;
+  r.dropped_records += b.recording.droppedRecords;
+  if (r.recording_error.empty()) r.recording_error = b.recording.error;
+  r.scheduler = b.scheduler;
+  ++r.segments;
+}
+
+}  // namespace
+
+bool SoakResult::passed() const {
+  return ticks > 0 && nan_outputs == 0 && unbounded_outputs == 0 && allocations == 0 && faults_handled == faults_injected &&
+         rss_growth_bytes < 2 * 1024 * 1024 && recording_error.empty();
+}
+
+SoakResult runSoak(const SoakOptions& o) {
+  if (!(o.minutes > 0 && o.minutes <= 1440)) throw std::invalid_argument("soak minutes must be in (0, 1440]");
+  const double total_s = 60 * o.minutes;
+  // Segments of a minute at most, and short runs still meet every part and both methods
+  // (segments of 5 s at least).
+  const int segments = std::max({1, static_cast<int>(std::ceil(total_s / 60)),
+                                 std::min(kRound, static_cast<int>(total_s / 5))});
+  const double segment_s = total_s / segments;
+  fs::path dir = o.recordDir;
+  if (o.record && dir.empty()) {
+    char tmpl[] = "/tmp/hapticgrasp-soak-XXXXXX";
+    if (!mkdtemp(tmpl)) throw std::runtime_error("soak: cannot make a folder for the recordings");
+    dir = tmpl;
+  }
+  std::mt19937_64 random(o.seed);
+  SoakResult r;
+  r.allocations = o.allocationCounter ? 0 : -1;
+  std::int64_t warm = -1;
+  int kindCursor = 0;  // the device faults' kinds go round across segments
+  for (int s = 0; s < segments; ++s) {
+    ServoBenchOptions b;
+    b.rate_hz = o.rate_hz;
+    b.seconds = segment_s;
+    b.realtime = o.realtime;
+    b.device = "scripted";
+    b.part = kParts[(s / 2) % 4];
+    b.method = s % 2 == 0 ? "two-finger" : "multi-finger";
+    b.fingers = s % 2 == 0 ? 2 : 3;
+    b.allocationCounter = o.allocationCounter;
+    if (o.record) b.recordPath = (dir / ("segment-" + std::to_string(s) + ".mcap")).string();
+    std::shared_ptr<device::FaultInjectingDevice> faults;
+    const std::uint64_t wanderSeed = random();
+    std::vector<device::Fault> schedule = device::randomFaults(segment_s, o.faultsPerMinute, random, kindCursor);
+    kindCursor += static_cast<int>(schedule.size());
+    const double ramp = ServoConfig{}.watchdogRamp_s + 4.0 / o.rate_hz;
+    b.wrapDevice = [&](std::shared_ptr<device::Device> inner) {
+      faults = std::make_shared<device::FaultInjectingDevice>(std::move(inner), schedule, o.rate_hz, ramp, wanderSeed);
+      return faults;
+    };
+    const double swapAt_s = std::uniform_real_distribution<double>(0.3, 0.8)(random) * segment_s;
+    std::optional<grasp::ScenePart> swap;
+    bool swapped = false;
+    b.poll = [&](const grasp::Scene& scene, double t) {
+      if (!swap) swap = swapModel(scene, s);
+      if (swapped || t < swapAt_s) return;
+      swapped = true;
+      scene.publish(0, *swap);
+      faults->markExternal(device::FaultKind::ModelSwap);
+    };
+    const ServoBenchResult segment = runServoBench(b);
+    add(r, segment, faults->report());
+    if (o.record) fs::remove(b.recordPath);
+    if (s + 1 == std::min(kRound, segments)) warm = residentBytes();
+  }
+  if (o.record && o.recordDir.empty()) fs::remove_all(dir);
+  r.seconds = total_s;
+  for (int k = 0; k < device::kFaultKinds; ++k) {
+    r.faults_injected += r.injected[k];
+    r.faults_handled += r.handled[k];
+  }
+  r.rss_bytes = residentBytes();
+  r.rss_growth_bytes = r.rss_bytes - warm;
+  return r;
+}
+
+std::string toJson(const SoakResult& r, int indent) {
+  nlohmann::json faults = nlohmann::json::object();
+  for (int k = 0; k < device::kFaultKinds; ++k)
+    faults[device::toString(static_cast<device::FaultKind>(k))] = {{"injected", r.injected[k]}, {"handled", r.handled[k]}};
+  const nlohmann::json j = {{"seconds", r.seconds},
+                            {"segments", r.segments},
+                            {"ticks", r.ticks},
+                            {"nan_outputs", r.nan_outputs},
+                            {"unbounded_outputs", r.unbounded_outputs},
+                            {"allocations", r.allocations},
+                            {"faults_injected", r.faults_injected},
+                            {"faults_handled", r.faults_handled},
+                            {"faults", faults},
+                            {"rss_growth_bytes", r.rss_growth_bytes},
+                            {"rss_bytes", r.rss_bytes},
+                            {"max_period_err_us", r.max_period_err_us},
+                            {"max_period_err_unstalled_us", r.max_period_err_unstalled_us},
+                            {"achieved_hz_min", r.achieved_hz_min},
+                            {"grasps", r.grasps},
+                            {"lifts", r.lifts},
+                            {"watchdog_trips", r.watchdog_trips},
+                            {"watchdog_clears", r.watchdog_clears},
+                            {"recording", {{"bytes", r.recorded_bytes}, {"dropped_records", r.dropped_records},
+                                           {"error", r.recording_error}}},
+                            {"scheduler", r.scheduler},
+                            {"passed", r.passed()}};
+  return j.dump(indent);
+}
+
+}  // namespace hg::servo
