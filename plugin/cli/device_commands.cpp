@@ -6,6 +6,7 @@
 #include "hapticgrasp/device/device_discovery.hpp"
 #include "hapticgrasp/device/hid_layout.hpp"
 #include "hapticgrasp/device/hid_transport.hpp"
+#include "hapticgrasp/device/udev_rule.hpp"
 #include "hapticgrasp/servo/servo_bench.hpp"
 // The servo benchmark counts the allocations the servo thread makes: this executable
 // interposes malloc (here, and nowhere else in it).
@@ -19,6 +20,13 @@ int listDevices() {
   device::HidapiTransport transport;
   std::cout << device::formatDiscoveredDevices(device::discoverDevices(transport, layouts.layouts));
   return 0;
+}
+
+int printUdevRule() {
+  const device::HidLayoutSet layouts = device::loadHidLayoutDirectory(device::defaultHidLayoutDirectory());
+  for (const std::string& error : layouts.errors) std::cerr << "layout skipped: " << error << std::endl;
+  std::cout << device::udevRule(layouts.layouts);
+  return layouts.errors.empty() ? 0 : 1;
 }
 
 int benchServo(servo::ServoBenchOptions options, bool json) {
@@ -66,6 +74,39 @@ int benchScene(servo::SceneBenchOptions options, bool json) {
               r.compute.p99_us, r.compute.max_us, r.periodError.p99_us, r.achieved_hz, r.scheduler.c_str());
   std::printf("  memory %.1f MB, allocations in the loop %ld\n", r.memory_bytes / 1e6, r.allocations_in_loop);
   return 0;
+}
+
+}  // namespace hg::cli
+
+namespace hg::cli {
+
+int soak(servo::SoakOptions options, bool json) {
+  options.realtime = true;
+  options.allocationCounter = &servo::threadAllocations;
+  const servo::SoakResult r = servo::runSoak(options);
+  if (json) {
+    std::cout << servo::toJson(r) << std::endl;
+    return r.passed() ? 0 : 1;
+  }
+  std::printf("soak: %.1f min, %d segments, %llu ticks (min %.1f Hz), %s\n", r.seconds / 60, r.segments,
+              static_cast<unsigned long long>(r.ticks), r.achieved_hz_min, r.scheduler.c_str());
+  std::printf("  faults handled %llu of %llu:", static_cast<unsigned long long>(r.faults_handled),
+              static_cast<unsigned long long>(r.faults_injected));
+  for (int k = 0; k < device::kFaultKinds; ++k)
+    std::printf(" %s %llu/%llu", device::toString(static_cast<device::FaultKind>(k)),
+                static_cast<unsigned long long>(r.handled[k]), static_cast<unsigned long long>(r.injected[k]));
+  std::printf("\n  NaN outputs %llu, unbounded %llu, servo allocations %ld, RSS growth %lld B (RSS %.1f MB)\n",
+              static_cast<unsigned long long>(r.nan_outputs), static_cast<unsigned long long>(r.unbounded_outputs),
+              r.allocations, static_cast<long long>(r.rss_growth_bytes), r.rss_bytes / 1e6);
+  std::printf("  period error max %.0f us (stalls included), %.0f us outside stalls; grasps %llu, lifts %llu, "
+              "watchdog trips %llu, clears %llu\n",
+              r.max_period_err_us, r.max_period_err_unstalled_us, static_cast<unsigned long long>(r.grasps),
+              static_cast<unsigned long long>(r.lifts), static_cast<unsigned long long>(r.watchdog_trips),
+              static_cast<unsigned long long>(r.watchdog_clears));
+  std::printf("  recorded %.1f MB, %llu records dropped%s%s\n%s\n", r.recorded_bytes / 1e6,
+              static_cast<unsigned long long>(r.dropped_records), r.recording_error.empty() ? "" : "; error: ",
+              r.recording_error.c_str(), r.passed() ? "soak: passed" : "soak: FAILED");
+  return r.passed() ? 0 : 1;
 }
 
 }  // namespace hg::cli

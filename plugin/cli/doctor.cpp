@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "hapticgrasp/device/udev_rule.hpp"
 #include "hapticgrasp/servo/realtime_access.hpp"
 #include "hapticgrasp/servo/servo_loop.hpp"
 
@@ -22,7 +23,7 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 
 // The udev rule the package installs (packaging/): uaccess for the supported devices.
-constexpr const char* kUdevRule = "70-hapticgrasp.rules";
+constexpr const char* kUdevRule = device::kUdevRuleFile;
 
 std::vector<std::string> globPaths(const std::string& pattern) {
   std::vector<std::string> out;

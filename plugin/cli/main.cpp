@@ -231,9 +231,27 @@ int main(int argc, char** argv) {
   reportCmd->add_option("-o,--output", reportOutput, "The report to write (.html)")->required();
 
   CLI::App* devices = app.add_subcommand("devices", "List HID devices and which back end or layout matches each");
+  bool udevRule = false;
+  devices->add_flag("--udev-rule", udevRule,
+                    "Print the udev rule that gives the logged-in user the devices HapticGrasp drives "
+                    "(the package installs it as /usr/lib/udev/rules.d/70-hapticgrasp.rules)");
   CLI::App* doctorCmd = app.add_subcommand(
       "doctor", "What this machine allows and lacks: real time, locked memory, HID access, FreeCAD, the workbench, audio");
   doctorCmd->add_flag("--json", json, "Print JSON");
+
+  servo::SoakOptions soakOptions;
+  CLI::App* soakCmd = app.add_subcommand(
+      "soak", "The real servo thread for M minutes over the sample parts, both methods, a wandering hand and injected "
+              "faults (silence, NaN/Inf, stalls, unplugging, model swaps), recorded; exit 1 unless every fault is handled "
+              "with no NaN, no allocation and flat memory");
+  soakCmd->add_option("--minutes", soakOptions.minutes, "How long")->capture_default_str()->check(CLI::Range(0.01, 1440.0));
+  soakCmd->add_option("--rate", soakOptions.rate_hz, "Servo rate, Hz")->capture_default_str()->check(CLI::Range(50.0, 10000.0));
+  soakCmd->add_option("--seed", soakOptions.seed, "Random seed (faults, hand, swaps)")->capture_default_str();
+  soakCmd->add_option("--faults-per-minute", soakOptions.faultsPerMinute, "Device faults a minute")
+      ->capture_default_str()->check(CLI::Range(0.0, 600.0));
+  bool soakNoRecord = false;
+  soakCmd->add_flag("--no-record", soakNoRecord, "Do not record the segments");
+  soakCmd->add_flag("--json", json, "Print JSON");
 
   CLI::App* experiment = app.add_subcommand("experiment", "Reproduce the papers' experiments");
   experiment->require_subcommand(1);
@@ -265,8 +283,12 @@ int main(int argc, char** argv) {
     if (shakeCmd->parsed()) return shake(json, shakePlot);
     if (servoBench->parsed()) return cli::benchServo(servoOptions, json);
     if (sceneBench->parsed()) return cli::benchScene(sceneOptions, json);
-    if (devices->parsed()) return cli::listDevices();
+    if (devices->parsed()) return udevRule ? cli::printUdevRule() : cli::listDevices();
     if (doctorCmd->parsed()) return cli::doctor(json);
+    if (soakCmd->parsed()) {
+      soakOptions.record = !soakNoRecord;
+      return cli::soak(soakOptions, json);
+    }
     if (recordCmd->parsed()) return cli::record(recordOptions, json);
     if (recordingInfoCmd->parsed()) return cli::recordingInfo(recordingPath, json);
     if (replayCmd->parsed()) return cli::replay(recordingPath, replayCheck, json);
