@@ -2,7 +2,7 @@
 BUILD ?= build
 JOBS  ?= 2
 
-.PHONY: deps build demo test bench clean
+.PHONY: deps build demo test bench package clean
 deps:
 	packaging/install-deps
 
@@ -20,6 +20,11 @@ demo: build
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+# The Debian package (CPack): build/packaging/hapticgrasp_<version>_<arch>.deb, then
+# `sudo apt install ./build/packaging/hapticgrasp_*.deb` (README: Install).
+package: build
+	cmake --build $(BUILD) --target package
 
 # The full speed/accuracy ladder on every sample part (minutes; not part of `make test`).
 bench: build
