@@ -315,6 +315,94 @@ class HapticGraspDocument(unittest.TestCase):
             core.part_info("DBRep_DrawableShape\nCASCADE Topology V1, (c) Matra-Datavision\nLocations 3\n")
 
 
+class DocumentChangesMidMove(unittest.TestCase):
+    """What the user does to the document while a part is held (issue 14): each ends or goes
+    on with the session cleanly, leaves the document consistent and raises nothing. The
+    document and session of HapticGraspDocument (its tests are not run again here)."""
+    setUp = HapticGraspDocument.setUp
+    make_session = HapticGraspDocument.make_session
+
+    def hold(self):
+        """A session whose scripted hand has lifted the cylinder (MANIPULATE, move open)."""
+        s = self.make_session()
+        s.start()
+        deadline = time.monotonic() + 10
+        while s.tick()["state"] != "MANIPULATE":
+            self.assertLess(time.monotonic(), deadline, "never lifted")
+            time.sleep(0.01)
+        for _ in range(5):
+            s.tick()
+            time.sleep(0.01)
+        self.assertEqual(s.active, 0)
+        self.assertTrue(self.doc.HasPendingTransaction)
+        return s
+
+    def tearDown(self):
+        if self.session is not None:
+            self.session.core.stop()
+        if self._open():
+            App.closeDocument(self.doc.Name)
+
+    def _open(self):
+        try:
+            self.doc.Name
+            return True
+        except ReferenceError:
+            return False
+
+    def test_deleting_the_held_part_stops_haptics_and_one_undo_brings_it_back_where_it_was(self):
+        before = App.Placement(self.cylinder.Placement)
+        s = self.hold()
+        self.doc.removeObject("Cylinder")
+        for _ in range(5):
+            s.tick()   # once, and quiet after
+        self.assertFalse(s.running)
+        self.assertIsNone(s.active)
+        self.assertEqual(len([m for m in s.messages if "deleted while it was held" in m]), 1, s.messages)
+        s.stop()
+        self.assertEqual(self.doc.UndoNames, ["Haptic move Cylinder"])
+        self.doc.undo()
+        self.assertIsNotNone(self.doc.getObject("Cylinder"))
+        self.assertTrue(hs.same_placement(self.doc.getObject("Cylinder").Placement, before, 1e-9))
+
+    def test_deleting_a_part_not_held_stops_haptics_and_keeps_the_move_so_far(self):
+        s = self.hold()
+        self.doc.removeObject("Block")
+        s.tick()
+        self.assertFalse(s.running)
+        self.assertIn("Block was deleted from the document: haptics stopped (Start again to go on without it)",
+                      s.messages)
+        self.assertFalse(self.doc.HasPendingTransaction)   # the cylinder's move is committed
+        self.assertEqual(self.doc.UndoNames, ["Haptic move Cylinder"])
+        s.tick()
+        self.assertFalse(self.doc.HasPendingTransaction)   # and nothing reopened
+
+    def test_an_undo_mid_move_puts_the_part_back_and_restarts_with_the_document(self):
+        before = App.Placement(self.cylinder.Placement)
+        s = self.hold()
+        self.assertFalse(hs.same_placement(self.cylinder.Placement, before, 1e-3))   # lifted
+        self.doc.undo()
+        s.tick()
+        self.assertTrue(hs.same_placement(self.cylinder.Placement, before, 1e-9))
+        self.assertEqual(s.restarts, 1)
+        self.assertTrue(s.running)
+        self.assertIn("the move of Cylinder was undone while it was held: haptics restarted with the parts where "
+                      "the document has them", s.messages)
+        snap = s.tick()
+        self.assertTrue(hs.same_placement(hs.to_placement(snap["placements"][0]), before, 1e-3), snap["placements"][0])
+        s.stop()
+
+    def test_closing_the_document_mid_move_stops_haptics_without_an_error(self):
+        s = self.hold()
+        App.closeDocument(self.doc.Name)
+        for _ in range(3):
+            s.tick()
+        self.assertFalse(s.running)
+        self.assertEqual(s.messages.count("the document was closed: haptics stopped"), 1, s.messages)
+        s.stop()
+        s.cancel()
+
+
 class PartsIntoTheSession(unittest.TestCase):
     """How parts get into a session: models built on the core's worker thread with
     progress and cancel, a bad part skipped by name, an edited part rebuilt mid-session,

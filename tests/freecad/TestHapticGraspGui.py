@@ -86,6 +86,40 @@ def cylinder_doc(name, save_in=None):
 
 
 class HapticGraspGui(unittest.TestCase):
+    def test_closing_the_document_mid_move_stops_haptics_without_an_error(self):
+        """Issue 14: the document closed while the servo runs and a part is held: the timer
+        stops haptics (overlay and event filter removed from a view that is gone), nothing
+        is raised or printed as an error, and FreeCAD goes on."""
+        from PySide2 import QtWidgets
+        Gui.activateWorkbench("HapticGraspWorkbench")
+        doc, cylinder = self._cylinder_doc("HapticGraspClosed")
+        Gui.Selection.clearSelection()
+        Gui.Selection.addSelection(cylinder)
+        controller = hgui._HapticGraspController
+        with _ErrorLog() as log:
+            Gui.runCommand("HapticGrasp_Start")
+            deadline = time.monotonic() + 15
+            while controller.session is not None and controller.session.state != "MANIPULATE":
+                self.assertLess(time.monotonic(), deadline, "never lifted")
+                QtWidgets.QApplication.processEvents()
+                time.sleep(0.005)
+            session = controller.session
+            self.assertIsNotNone(session)
+            App.closeDocument(doc.Name)
+            deadline = time.monotonic() + 2
+            while controller.session is not None and time.monotonic() < deadline:
+                QtWidgets.QApplication.processEvents()
+                time.sleep(0.005)
+            self.assertIsNone(controller.session)
+            self.assertFalse(session.running)
+            self.assertIn("the document was closed: haptics stopped", session.messages)
+            if Gui.Control.activeDialog():
+                Gui.Control.closeDialog()
+            QtWidgets.QApplication.processEvents()
+        self.assertEqual([e for e in log.errors if "document was closed" not in e], [])
+        other, _ = self._cylinder_doc("HapticGraspAfterClose")   # FreeCAD goes on
+        App.closeDocument(other.Name)
+
     def test_start_command_moves_the_selected_part_in_one_undo_step(self):
         from PySide2 import QtWidgets
         Gui.activateWorkbench("HapticGraspWorkbench")

@@ -268,19 +268,15 @@ class _HapticGraspController:
     @classmethod
     def stop(cls):
         if cls.events is not None:
-            try:
-                cls.events.remove()
-            finally:
-                cls.events = None
+            _quietly(cls.events.remove)   # its view may have closed with its document
+            cls.events = None
         cls.hand = None
         if cls.timer is not None:
             cls.timer.stop()
             cls.timer = None
         if cls.overlay is not None:
-            try:
-                cls.overlay.remove()
-            finally:
-                cls.overlay = None
+            _quietly(cls.overlay.remove)
+            cls.overlay = None
         if cls.panel is not None:
             cls.panel.set_running(False)
         if cls.session is not None and not cls.session.ready and not cls.session.cancelled:
@@ -291,6 +287,15 @@ class _HapticGraspController:
                 cls.panel.show_recording(cls.session)   # the final size
             cls.session = None
             App.Console.PrintMessage("HapticGrasp: stopped\n")
+
+
+def _quietly(remove):
+    """Removes an overlay or event filter from a view that may be gone (its document was
+    closed under the session): stopping must not fail for it."""
+    try:
+        remove()
+    except Exception as e:
+        App.Console.PrintLog("HapticGrasp: %s\n" % e)
 
 
 def _mouse_hand_for(view, target):

@@ -633,6 +633,8 @@ class HapticSession:
         self.frame = None         # its PartRef.frame(): the placements around it, fixed meanwhile
         self.moves = 0            # committed manipulations
         self.aborted = 0
+        self.closed = False       # the document was closed under the session (it stopped)
+        self.halted = False       # a part was deleted under the session: it stopped, no more writes
         self.fault = "none"
         self._script = None       # (keys, frame Placement, pivot Vector) of a scripted hand
         self._hand = None         # the last set_hand() (index, thumb, wrist) in mm
@@ -1017,9 +1019,80 @@ class HapticSession:
         self.core.annotate(text, mark)
         return True
 
+    # --- the document under the session ---------------------------------------------
+    def _document_closed(self):
+        """True once the document is closed (its Python object is dead): the servo stops,
+        the manipulation under way is dropped with the document, and that is said once."""
+        try:
+            self.doc.Name
+            return False
+        except ReferenceError:
+            pass
+        self.core.stop()
+        self._say_recorded()
+        self.active = self.original = self.frame = None
+        self.rebuilds = {}
+        self.closed = True
+        _error(self.messages, "the document was closed: haptics stopped")
+        return True
+
+    def _deleted(self, ref):
+        """The part's object (or the object its placement is written to) is no longer in
+        the document: deleted, or its document closed."""
+        try:
+            return any(self.doc.getObject(o.Name) is None for o in (ref.root, ref.obj) if o is not None)
+        except (ReferenceError, RuntimeError):   # FreeCAD: "not part of a document" once removed
+            return True
+
+    def _part_deleted(self, ref):
+        """A part not held was deleted: the core would go on feeling it where it was, so
+        haptics stop (a move still open is committed, as stop() does) and say why."""
+        self.stop()
+        self.halted = True
+        _error(self.messages, "%s was deleted from the document: haptics stopped (Start again to go on "
+                              "without it)" % ref.label)
+
+    def _document_changed_under_the_move(self):
+        """While a part is moved: if it was deleted, the move so far and the deletion stay
+        one undo step (undoing it brings the part back where it was) and haptics stop, as
+        the core cannot go on holding it; if the move's transaction was closed under it (the
+        user's undo, or another command's commit), the move is over: undone by an undo, so
+        the loop restarts with every part where the document has it. True when haptics
+        stopped here."""
+        if self.active is None:
+            return False
+        ref = self.parts[self.active]
+        if self._deleted(ref):
+            self.doc.commitTransaction()
+            self.active = self.original = self.frame = None
+            self.core.stop()
+            self._say_recorded()
+            self.halted = True
+            _error(self.messages, "%s was deleted while it was held: haptics stopped (Start again to go on "
+                                  "without it; one undo brings it back where it was)" % ref.label)
+            return True
+        if not self.doc.HasPendingTransaction:
+            self.active = self.original = self.frame = None
+            placements = []
+            for index, part in enumerate(self.parts):
+                try:
+                    placements.append(placement_numbers(part.global_placement()))
+                except Exception:   # deleted meanwhile: where the core had it
+                    placements.append(tuple(self.core.snapshot()["placements"][index]))
+            self.core.restart(placements)
+            self.restarts += 1
+            _warn(self.messages, "the move of %s was undone while it was held: haptics restarted with the parts "
+                                 "where the document has them" % ref.label)
+        return False
+
     def stop(self):
         """Stops the servo thread; a manipulation still open is committed where it is.
-        Rebuilds in flight are cancelled."""
+        Rebuilds in flight are cancelled. A closed document is left alone."""
+        if self.closed or self._document_closed():
+            for build, _label in self.rebuilds.values():
+                drain(build)
+            self.rebuilds = {}
+            return
         self.core.stop()
         self._say_recorded()
         if self.scene and self.core.scene_mode:
@@ -1034,6 +1107,8 @@ class HapticSession:
     def cancel(self):
         """Esc: stops the servo thread; a manipulation still open is aborted (no undo
         entry, the part back where it was) and the report view says "cancelled"."""
+        if self.closed or self._document_closed():
+            return
         self.core.stop()
         self._say_recorded()
         if self.active is not None:
@@ -1047,7 +1122,11 @@ class HapticSession:
 
     # --- the GUI timer ----------------------------------------------------------------
     def tick(self):
-        """Read a snapshot and bring the document up to date. Returns the snapshot."""
+        """Read a snapshot and bring the document up to date. Returns the snapshot.
+        What the document did meanwhile is looked at first: closed, the held part deleted,
+        the move's transaction undone (_document_changed_under_the_move)."""
+        if self.closed or self.halted or self._document_closed() or self._document_changed_under_the_move():
+            return self.core.snapshot()
         snap = self.core.snapshot()
         if self._device_hand and snap["tick"] > 0:   # a HID device, the arm: the hand it last read
             self._hand = tuple(App.Vector(*p) for p in snap["hand"])
@@ -1141,9 +1220,12 @@ class HapticSession:
             index = self._sweep
             self._sweep = (self._sweep + 1) % len(self.parts)
             ref = self.parts[index]
+            if self._deleted(ref):
+                self._part_deleted(ref)
+                return
             try:
                 shape = ref.global_shape()
-            except Exception:   # deleted meanwhile: it stays where the core has it
+            except Exception:   # unreadable meanwhile: it stays where the core has it
                 continue
             if self.shapes[index] is None:
                 self.shapes[index] = shape
@@ -1174,6 +1256,9 @@ class HapticSession:
         typed in, its App::Part moved) restarts the loop the same way, without a rebuild."""
         shapes = []   # per part: its global shape now, None if it cannot be read (deleted meanwhile)
         for index, ref in enumerate(self.parts):
+            if self._deleted(ref):
+                self._part_deleted(ref)
+                return
             try:
                 shape = ref.global_shape()
             except Exception:   # the object was deleted meanwhile: leave its model be
