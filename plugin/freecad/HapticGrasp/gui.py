@@ -73,6 +73,7 @@ class _HapticGraspController:
             App.Console.PrintError("HapticGrasp: no active document\n")
             return
         cls.stop()
+        cls._stop_at_quit()
         cls.selected = list(Gui.Selection.getSelection())   # the demo hand's target, if a part
         session = hs.HapticSession(doc, wait=False, scene=True)
         cls.session = session
@@ -83,6 +84,18 @@ class _HapticGraspController:
         cls.timer.start()
         App.Console.PrintMessage("HapticGrasp: %d part(s), their models built in the background\n" % len(session.parts))
         cls._launch()
+
+    quit_hooked = False
+
+    @classmethod
+    def _stop_at_quit(cls):
+        """FreeCAD quitting while haptics run: stop them first, so that the servo thread is
+        joined and the recording gets its last chunk and summary (without this the file was
+        cut short at exit)."""
+        from PySide import QtGui   # FreeCAD's shim: its QtGui holds QApplication
+        if not cls.quit_hooked:
+            QtGui.QApplication.instance().aboutToQuit.connect(cls.stop)
+            cls.quit_hooked = True
 
     @classmethod
     def cancel_build(cls):

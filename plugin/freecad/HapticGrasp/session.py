@@ -1081,8 +1081,8 @@ class HapticSession:
                     placements.append(tuple(self.core.snapshot()["placements"][index]))
             self.core.restart(placements)
             self.restarts += 1
-            _warn(self.messages, "the move of %s was undone while it was held: haptics restarted with the parts "
-                                 "where the document has them" % ref.label)
+            _warn(self.messages, "the move of %s was undone while it was held (an undo or redo closed it): haptics "
+                                 "restarted with the parts where the document has them" % ref.label)
         return False
 
     def stop(self):
