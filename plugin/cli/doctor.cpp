@@ -1,9 +1,12 @@
 #include "doctor.hpp"
 
 #include <glob.h>
+#include <spawn.h>
+#include <sys/wait.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -24,6 +27,39 @@ using json = nlohmann::json;
 
 // The udev rule the package installs (packaging/): uaccess for the supported devices.
 constexpr const char* kUdevRule = device::kUdevRuleFile;
+
+// Runs argv (looked up in PATH) with no shell between, and returns what it printed on
+// stdout and stderr: a FreeCAD found in an odd PATH folder is a path, never shell words.
+std::string runCapturing(std::vector<std::string> argv) {
+  int out[2];
+  if (pipe(out) != 0) return "";
+  std::vector<char*> args;
+  for (std::string& a : argv) args.push_back(a.data());
+  args.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
+  posix_spawn_file_actions_adddup2(&actions, out[1], STDERR_FILENO);
+  posix_spawn_file_actions_addclose(&actions, out[0]);
+  pid_t child = -1;
+  const int spawned = posix_spawnp(&child, args[0], &actions, nullptr, args.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  close(out[1]);
+  std::string output;
+  if (spawned == 0) {
+    char buffer[4096];
+    for (ssize_t n; (n = read(out[0], buffer, sizeof buffer)) != 0;) {
+      if (n < 0 && errno == EINTR) continue;
+      if (n < 0) break;
+      output.append(buffer, static_cast<std::size_t>(n));
+    }
+    int status = 0;
+    while (waitpid(child, &status, 0) < 0 && errno == EINTR) {
+    }
+  }
+  close(out[0]);
+  return output;
+}
 
 std::vector<std::string> globPaths(const std::string& pattern) {
   std::vector<std::string> out;
@@ -114,7 +150,9 @@ json freecadAndAddon() {
   }
   fc["found"] = true;
   fc["path"] = cmd;
-  char scriptPath[] = "/tmp/hapticgrasp-doctor-XXXXXX.py";
+  const char* tmp = std::getenv("TMPDIR");
+  std::string scriptName = std::string(tmp && *tmp ? tmp : "/tmp") + "/hapticgrasp-doctor-XXXXXX.py";
+  char* scriptPath = scriptName.data();
   const int fd = mkstemps(scriptPath, 3);  // 0600, a fresh name: nobody else's file is run
   if (fd < 0) {
     fc["why"] = "cannot create a temporary file to ask FreeCAD";
@@ -133,15 +171,7 @@ json freecadAndAddon() {
       "    print('HG_IMPORT_FAIL ' + str(e).replace('\\n', ' '))\n";
   const bool written = write(fd, script.data(), script.size()) == static_cast<ssize_t>(script.size());
   close(fd);
-  std::string output;
-  if (written) {
-    const std::string line = "timeout 120 '" + cmd + "' '" + scriptPath + "' 2>&1";
-    if (FILE* p = popen(line.c_str(), "r")) {
-      char buffer[4096];
-      while (fgets(buffer, sizeof buffer, p)) output += buffer;
-      pclose(p);
-    }
-  }
+  const std::string output = written ? runCapturing({"timeout", "120", cmd, scriptPath}) : "";
   unlink(scriptPath);
   const auto field = [&](const std::string& key) -> std::string {
     const std::size_t at = output.find(key + " ");

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -81,8 +82,9 @@ SoakResult runSoak(const SoakOptions& o) {
   const double segment_s = total_s / segments;
   fs::path dir = o.recordDir;
   if (o.record && dir.empty()) {
-    char tmpl[] = "/tmp/hapticgrasp-soak-XXXXXX";
-    if (!mkdtemp(tmpl)) throw std::runtime_error("soak: cannot make a folder for the recordings");
+    const char* tmp = std::getenv("TMPDIR");
+    std::string tmpl = std::string(tmp && *tmp ? tmp : "/tmp") + "/hapticgrasp-soak-XXXXXX";
+    if (!mkdtemp(tmpl.data())) throw std::runtime_error("soak: cannot make a folder for the recordings");  // 0700
     dir = tmpl;
   }
   std::mt19937_64 random(o.seed);
