@@ -322,9 +322,12 @@ class DocumentChangesMidMove(unittest.TestCase):
     setUp = HapticGraspDocument.setUp
     make_session = HapticGraspDocument.make_session
 
-    def hold(self):
-        """A session whose scripted hand has lifted the cylinder (MANIPULATE, move open)."""
-        s = self.make_session()
+    def hold(self, parts=("Cylinder", "Block")):
+        """A session over `parts` whose scripted hand has lifted the cylinder (MANIPULATE,
+        move open)."""
+        s = self.session = hs.HapticSession(self.doc)
+        self.assertEqual([r.obj.Name for r in s.parts], list(parts))
+        s.use_hand_script(*hs.demo_script(self.cylinder))
         s.start()
         deadline = time.monotonic() + 10
         while s.tick()["state"] != "MANIPULATE":
@@ -391,6 +394,23 @@ class DocumentChangesMidMove(unittest.TestCase):
         snap = s.tick()
         self.assertTrue(hs.same_placement(hs.to_placement(snap["placements"][0]), before, 1e-3), snap["placements"][0])
         s.stop()
+
+    def test_a_recompute_error_mid_move_leaves_the_session_and_the_part_as_they_were(self):
+        box = self.doc.addObject("Part::Box", "Fixture")
+        box.Placement = App.Placement(App.Vector(-800, 0, 0), App.Rotation())
+        self.doc.recompute()
+        s = self.hold(("Cylinder", "Block", "Fixture"))
+        box.Length = -5   # OCCT cannot make it: the recompute fails, the old shape stays
+        self.doc.recompute()
+        self.assertIn("Invalid", box.State)
+        for _ in range(20):
+            s.tick()
+            time.sleep(0.01)
+        self.assertTrue(s.running)
+        self.assertEqual(s.active, 0)   # still carrying the cylinder
+        self.assertFalse([m for m in s.messages if "Fixture" in m], s.messages)
+        s.stop()
+        self.assertEqual(self.doc.UndoNames[-1:], ["Haptic move Cylinder"])
 
     def test_closing_the_document_mid_move_stops_haptics_without_an_error(self):
         s = self.hold()

@@ -114,11 +114,45 @@ class HapticGraspGui(unittest.TestCase):
             self.assertFalse(session.running)
             self.assertIn("the document was closed: haptics stopped", session.messages)
             if Gui.Control.activeDialog():
-                Gui.Control.closeDialog()
+                click_task_close(self)   # the panel stays, saying so, until the user closes it
             QtWidgets.QApplication.processEvents()
+            self.assertIsNone(controller.panel)
         self.assertEqual([e for e in log.errors if "document was closed" not in e], [])
         other, _ = self._cylinder_doc("HapticGraspAfterClose")   # FreeCAD goes on
         App.closeDocument(other.Name)
+
+    def test_switching_workbench_mid_session_keeps_haptics_running_until_stop(self):
+        """Issue 14: another workbench activated while the servo runs: haptics go on (the
+        controller belongs to no workbench) and Stop still ends them cleanly."""
+        from PySide2 import QtWidgets
+        Gui.activateWorkbench("HapticGraspWorkbench")
+        doc, cylinder = self._cylinder_doc("HapticGraspSwitch")
+        Gui.Selection.addSelection(cylinder)
+        controller = hgui._HapticGraspController
+        with _ErrorLog() as log:
+            Gui.runCommand("HapticGrasp_Start")
+            deadline = time.monotonic() + 15
+            while controller.session is None or not controller.session.running:
+                self.assertLess(time.monotonic(), deadline, "never started")
+                QtWidgets.QApplication.processEvents()
+                time.sleep(0.005)
+            Gui.activateWorkbench("PartWorkbench")
+            ticks = controller.session.core.snapshot()["tick"]
+            end = time.monotonic() + 0.5
+            while time.monotonic() < end:
+                QtWidgets.QApplication.processEvents()
+                time.sleep(0.005)
+            self.assertTrue(controller.session.running)
+            self.assertGreater(controller.session.core.snapshot()["tick"], ticks + 500)
+            Gui.runCommand("HapticGrasp_Stop")
+            QtWidgets.QApplication.processEvents()
+            self.assertIsNone(controller.session)
+            if Gui.Control.activeDialog():
+                click_task_close(self)
+            QtWidgets.QApplication.processEvents()
+        self.assertEqual(log.errors, [])
+        Gui.activateWorkbench("HapticGraspWorkbench")
+        App.closeDocument(doc.Name)
 
     def test_start_command_moves_the_selected_part_in_one_undo_step(self):
         from PySide2 import QtWidgets

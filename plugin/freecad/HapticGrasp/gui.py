@@ -47,8 +47,9 @@ class _HapticGraspController:
     @classmethod
     def show_panel(cls):
         """Opens the task panel (if no other task dialog is open)."""
-        if cls.panel is not None:
+        if cls.panel is not None and _alive(cls.panel.form):
             return cls.panel
+        cls.panel = None   # its dialog was closed without it (FreeCAD closed it): a new one
         from . import panel as hpanel
         panel = hpanel.HapticTaskPanel(cls)
         try:
@@ -291,22 +292,34 @@ class _HapticGraspController:
             _quietly(cls.overlay.remove)
             cls.overlay = None
         if cls.panel is not None:
-            cls.panel.set_running(False)
+            _quietly(lambda: cls.panel.set_running(False))   # its dialog may be closed already
         if cls.session is not None and not cls.session.ready and not cls.session.cancelled:
             cls.session.cancel_build()   # Stop while building: nothing is kept
         if cls.session is not None:
             cls.session.stop()
             if cls.panel is not None:
-                cls.panel.show_recording(cls.session)   # the final size
+                _quietly(lambda: cls.panel.show_recording(cls.session))   # the final size
             cls.session = None
             App.Console.PrintMessage("HapticGrasp: stopped\n")
 
 
-def _quietly(remove):
-    """Removes an overlay or event filter from a view that may be gone (its document was
-    closed under the session): stopping must not fail for it."""
+def _alive(widget):
+    """The Qt widget behind a Python wrapper still exists (FreeCAD may delete a task
+    dialog's widgets itself)."""
     try:
-        remove()
+        import shiboken2
+        return shiboken2.isValid(widget)
+    except ImportError:   # Qt 6's shim: shiboken6
+        import shiboken6
+        return shiboken6.isValid(widget)
+
+
+def _quietly(action):
+    """Removes an overlay or event filter from a view that may be gone (its document was
+    closed under the session), or updates a panel whose dialog may be closed (FreeCAD
+    quitting): stopping must not fail for them."""
+    try:
+        action()
     except Exception as e:
         App.Console.PrintLog("HapticGrasp: %s\n" % e)
 
