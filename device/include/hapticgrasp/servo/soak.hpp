@@ -1,6 +1,7 @@
 #pragma once
 // `hapticgrasp soak --minutes M`: the REAL servo thread at 2 kHz for M minutes, over the
-// sample parts in turn (cylinder, block, loft, plate), with both grasp methods in turn
+// sample parts in turn (cylinder, block, loft: the perforated plate has a hole where the
+// bench's hand grips), with both grasp methods in turn
 // (two-finger; multi-finger with three fingertips), in segments of up to a minute: each is
 // the servo benchmark (servo_bench.hpp) with its scripted hand grasping, lifting and putting
 // the part down, that hand wandering (FaultInjectingDevice), and the faults a real session
