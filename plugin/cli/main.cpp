@@ -80,7 +80,12 @@ std::string partReport(const std::string& name, bool serial) {
 int partInfo(const std::string& name, bool serial) {
   const std::string report = isolatedLoad(name + ": loading the part", [&] {
     catchOcctFaults();
-    return partReport(name, serial);
+    try {
+      return partReport(name, serial);
+    } catch (const GeometryError& e) {  // "solid has no volume": whose?
+      const std::string message = e.what();
+      throw GeometryError(message.find(name) == std::string::npos ? name + ": " + message : message);
+    }
   });
   std::fputs(report.c_str(), stdout);
   return 0;

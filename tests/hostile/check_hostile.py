@@ -3,8 +3,9 @@
 
 Makes the copies (make_hostile.py, seeded) of SOURCE in WORK_DIR and runs the command on
 each. Every run must end by itself within 10 s (issue 14's budget), not by a signal, with
-exit code 0, or 1 or 2 and exactly one line on stderr that starts with "hapticgrasp: ";
-its peak resident memory must stay under the bound. Prints one line per copy.
+exit code 0, or 1 or 2 and exactly one line on stderr that starts with "hapticgrasp: " and
+names the file; its peak resident memory must stay under the bound. Prints one line per
+copy.
 
 Usage: check_hostile.py HAPTICGRASP WORK_DIR SOURCE [MAX_RSS_MIB]
 """
@@ -38,7 +39,7 @@ def run(command):
         return status, err.read().decode(errors="replace"), seconds, usage.ru_maxrss / 1024
 
 
-def verdict(status, stderr, seconds, rss_mib, max_rss_mib):
+def verdict(status, stderr, seconds, rss_mib, max_rss_mib, file_name):
     """What is wrong with a run, or None."""
     if os.WIFSIGNALED(status):
         return f"killed by {signal.Signals(os.WTERMSIG(status)).name}"
@@ -54,6 +55,8 @@ def verdict(status, stderr, seconds, rss_mib, max_rss_mib):
         return f"exit code {code}"
     if len(lines) != 1 or not lines[0].startswith("hapticgrasp: "):
         return f"exit code {code} without exactly one 'hapticgrasp: ' line: {stderr!r:.300}"
+    if file_name not in lines[0]:
+        return f"the error does not name the file: {lines[0]!r:.300}"
     return None
 
 
@@ -62,7 +65,7 @@ def main(hapticgrasp, work_dir, source, max_rss_mib=1024):
     failures = 0
     for copy in copies:
         status, stderr, seconds, rss = run([hapticgrasp, "parts", "info", str(copy)])
-        wrong = verdict(status, stderr, seconds, rss, int(max_rss_mib))
+        wrong = verdict(status, stderr, seconds, rss, int(max_rss_mib), copy.name)
         failures += wrong is not None
         outcome = "result" if os.WIFEXITED(status) and os.WEXITSTATUS(status) == 0 else stderr.strip()[:160]
         print(f"{'FAIL' if wrong else 'ok  '} {copy.name}: {seconds:.2f} s, {rss:.0f} MiB: {wrong or outcome}")
