@@ -2,6 +2,7 @@
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -77,7 +78,9 @@ std::string partReport(const std::string& name, bool serial) {
 // The part's report, or one error line. A damaged file can crash OCCT's readers or make its
 // checks loop for minutes: the part is loaded in a child process under a time and memory
 // limit (isolated_load.hpp), with OCCT's fault handlers, which only that child needs.
-int partInfo(const std::string& name, bool serial) {
+int partInfo(const std::string& name, bool serial, double timeLimit_s) {
+  IsolationLimits limits;
+  limits.time = std::chrono::milliseconds(std::llround(timeLimit_s * 1e3));
   const std::string report = isolatedLoad(name + ": loading the part", [&] {
     catchOcctFaults();
     try {
@@ -86,7 +89,7 @@ int partInfo(const std::string& name, bool serial) {
       const std::string message = e.what();
       throw GeometryError(message.find(name) == std::string::npos ? name + ": " + message : message);
     }
-  });
+  }, limits);
   std::fputs(report.c_str(), stdout);
   return 0;
 }
@@ -282,12 +285,17 @@ int main(int argc, char** argv) {
   info->add_option("part", partName, "Sample part name or .brep/.step file (mm)")->required();
   bool serialLoad = false;
   info->add_flag("--serial", serialLoad, "Check the part on one thread, as the FreeCAD workbench loads it");
+  double partTimeLimit_s = IsolationLimits().time.count() / 1e3;
+  info->add_option("--time-limit", partTimeLimit_s,
+                   "Seconds after which loading the part is given up (a damaged file can hang the reader); 0: none")
+      ->check(CLI::Range(0.0, 86400.0))
+      ->capture_default_str();
 
   CLI11_PARSE(app, argc, argv);
   try {
     if (app.got_subcommand("demo")) return demo();
     if (penetration->parsed()) return benchPenetration(ladder, json);
-    if (info->parsed()) return partInfo(partName, serialLoad);
+    if (info->parsed()) return partInfo(partName, serialLoad, partTimeLimit_s);
     if (graspCylinderCmd->parsed()) return graspCylinder(rate_hz, json);
     if (shakeCmd->parsed()) return shake(json, shakePlot);
     if (servoBench->parsed()) return cli::benchServo(servoOptions, json);

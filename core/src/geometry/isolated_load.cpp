@@ -12,6 +12,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <algorithm>
 #include <new>
 
 #include "hapticgrasp/geometry/geometry_error.hpp"
@@ -84,9 +85,10 @@ bool readUntilEnd(int fd, Clock::time_point deadline, std::string& out) {
     const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - Clock::now());
     if (left.count() <= 0) return false;
     pollfd p{fd, POLLIN, 0};
-    const int ready = poll(&p, 1, int(left.count()));
+    const int ready = poll(&p, 1, int(std::min<std::int64_t>(left.count(), 60'000)));
     if (ready < 0 && errno == EINTR) continue;
-    if (ready <= 0) return false;
+    if (ready < 0) return false;
+    if (ready == 0) continue;  // the deadline is checked above
     const ssize_t n = read(fd, buffer, sizeof buffer);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) return true;
@@ -119,7 +121,9 @@ std::string isolatedLoad(const std::string& what, const std::function<std::strin
   }
   close(fds[1]);
   std::string answer;
-  const bool finished = readUntilEnd(fds[0], Clock::now() + limits.time, answer);
+  const Clock::time_point deadline =
+      limits.time.count() > 0 ? Clock::now() + limits.time : Clock::time_point::max();
+  const bool finished = readUntilEnd(fds[0], deadline, answer);
   close(fds[0]);
   if (!finished) kill(pid, SIGKILL);
   int status = 0;

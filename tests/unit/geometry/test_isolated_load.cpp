@@ -61,6 +61,19 @@ TEST(IsolatedLoad, AHangIsGivenUpAtTheTimeLimit) {
             "part.step: loading the part did not finish within 0.3 s: given up");
 }
 
+TEST(IsolatedLoad, ATimeLimitOfZeroWaitsAsLongAsItTakes) {
+  IsolationLimits limits;
+  limits.time = std::chrono::milliseconds::zero();
+  EXPECT_EQ(isolatedLoad(
+                "x",
+                [] {
+                  usleep(100'000);
+                  return std::string("slow part");
+                },
+                limits),
+            "slow part");
+}
+
 TEST(IsolatedLoad, MemoryBeyondTheLimitIsRefused) {
   IsolationLimits limits;
   limits.memoryBytes = 1ull << 30;
