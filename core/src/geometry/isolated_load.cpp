@@ -1,5 +1,7 @@
 #include "hapticgrasp/geometry/isolated_load.hpp"
 
+#include <Standard_Failure.hxx>
+
 #include <fcntl.h>
 #include <poll.h>
 #include <sys/prctl.h>
@@ -7,12 +9,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <Standard_Failure.hxx>
+#include <algorithm>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
-#include <algorithm>
 #include <new>
 
 #include "hapticgrasp/geometry/geometry_error.hpp"

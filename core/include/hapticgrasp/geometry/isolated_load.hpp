@@ -20,7 +20,7 @@ namespace hg::geometry {
 struct IsolationLimits {
   // Issue 14 asks for a verdict within 10 s of asking: 9 s for the load, the rest for
   // starting the process and answering.
-  std::chrono::milliseconds time{9'000};  // zero: no limit
+  std::chrono::milliseconds time{9'000};   // zero: no limit
   std::uint64_t memoryBytes = 8ull << 30;  // address space (RLIMIT_AS), threads' stacks included
 };
 
