@@ -18,9 +18,10 @@
 namespace hg::geometry {
 
 struct IsolationLimits {
-  // Issue 14 asks for a verdict within 10 s of asking: 9 s for the load, the rest for
-  // starting the process and answering.
-  std::chrono::milliseconds time{9'000};   // zero: no limit
+  // Issue 14 asks for a verdict within 10 s of asking: 8 s for the load, the rest for
+  // starting the process and answering on a busy machine (9 s ended at 9.34 s under a load
+  // average of 7 on 2 cores).
+  std::chrono::milliseconds time{8'000};   // zero: no limit
   std::uint64_t memoryBytes = 8ull << 30;  // address space (RLIMIT_AS), threads' stacks included
 };
 
