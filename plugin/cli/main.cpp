@@ -2,13 +2,17 @@
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <stdexcept>
 #include <utility>
 
 #include "hapticgrasp/geometry/backends.hpp"
+#include "hapticgrasp/geometry/isolated_load.hpp"
+#include "hapticgrasp/geometry/occt_faults.hpp"
 #include "hapticgrasp/geometry/sample_parts.hpp"
 #include "hapticgrasp/grasp/grasp_cylinder_experiment.hpp"
 #include "hapticgrasp/grasp/shake_experiment.hpp"
@@ -32,35 +36,61 @@ int benchPenetration(const cli::LadderOptions& options, bool json) {
   return 0;
 }
 
-int partInfo(const std::string& name, bool serial) {
+// What `parts info` prints about a part, with its back end built.
+std::string partReport(const std::string& name, bool serial) {
   const SamplePart sample = findPart(name);
   PartModel::LoadOptions options;
   options.parallel = !serial;
   const PartModelPtr part = PartModel::fromFile(sample.file, sample.unit, options);
   const MassProperties m = part->massProperties(sample.mass);
+  char* text = nullptr;
+  std::size_t size = 0;
+  FILE* out = open_memstream(&text, &size);
   const Aabb b = part->bounds();
-  std::printf("part %s (%s)\n", sample.name.c_str(), sample.file.c_str());
-  std::printf("  faces %d, edges %d, vertices %d, primitive: %s\n", part->faces().Extent(), part->edges().Extent(),
-              part->vertices().Extent(), toString(part->primitive().kind));
-  std::printf("  bounds [m]: %.6g %.6g %.6g .. %.6g %.6g %.6g\n", b.min.x(), b.min.y(), b.min.z(), b.max.x(),
-              b.max.y(), b.max.z());
-  std::printf("  volume %.6g m^3, mass %.6g kg, centre of gravity [m] %.6g %.6g %.6g\n", m.volume_m3, m.mass_kg,
-              m.centre_m.x(), m.centre_m.y(), m.centre_m.z());
-  std::printf("  inertia about the centre [kg m^2]:\n");
+  std::fprintf(out, "part %s (%s)\n", sample.name.c_str(), sample.file.c_str());
+  std::fprintf(out, "  faces %d, edges %d, vertices %d, primitive: %s\n", part->faces().Extent(), part->edges().Extent(),
+                   part->vertices().Extent(), toString(part->primitive().kind));
+  std::fprintf(out, "  bounds [m]: %.6g %.6g %.6g .. %.6g %.6g %.6g\n", b.min.x(), b.min.y(), b.min.z(), b.max.x(),
+                   b.max.y(), b.max.z());
+  std::fprintf(out, "  volume %.6g m^3, mass %.6g kg, centre of gravity [m] %.6g %.6g %.6g\n", m.volume_m3, m.mass_kg,
+                   m.centre_m.x(), m.centre_m.y(), m.centre_m.z());
+  std::fprintf(out, "  inertia about the centre [kg m^2]:\n");
   for (int r = 0; r < 3; ++r)
-    std::printf("    %12.6g %12.6g %12.6g\n", m.inertia_kgm2(r, 0), m.inertia_kgm2(r, 1), m.inertia_kgm2(r, 2));
+    std::fprintf(out, "    %12.6g %12.6g %12.6g\n", m.inertia_kgm2(r, 0), m.inertia_kgm2(r, 1), m.inertia_kgm2(r, 2));
   // The back end Auto picks, built as a scene would build it.
   const auto built = std::chrono::steady_clock::now();
   const PenetrationModelPtr penetration = makePenetration(part);
   const double build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - built).count();
-  std::printf("  back end: %s\n", autoBackendReason(*part, penetration->name()).c_str());
+  std::fprintf(out, "  back end: %s\n", autoBackendReason(*part, penetration->name()).c_str());
   const PartLoadTiming& t = part->loadTiming();
   const double loadAfterReading_s = t.total_s - t.read_s;
-  std::printf("  load %.3f s: read %.3f s, checks %.3f s, all but reading %.3f s (%.3f s per 500 faces); "
-              "back end built in %.3f s\n",
-              t.total_s, t.read_s, t.check_s, loadAfterReading_s, loadAfterReading_s * 500 / part->faces().Extent(),
-              build_s);
-  for (const std::string& w : part->warnings()) std::printf("  note: %s\n", w.c_str());
+  std::fprintf(out, "  load %.3f s: read %.3f s, checks %.3f s, all but reading %.3f s (%.3f s per 500 faces); "
+                   "back end built in %.3f s\n",
+                   t.total_s, t.read_s, t.check_s, loadAfterReading_s, loadAfterReading_s * 500 / part->faces().Extent(),
+                   build_s);
+  for (const std::string& w : part->warnings()) std::fprintf(out, "  note: %s\n", w.c_str());
+  std::fclose(out);
+  std::string report(text, size);
+  std::free(text);
+  return report;
+}
+
+// The part's report, or one error line. A damaged file can crash OCCT's readers or make its
+// checks loop for minutes: the part is loaded in a child process under a time and memory
+// limit (isolated_load.hpp), with OCCT's fault handlers, which only that child needs.
+int partInfo(const std::string& name, bool serial, double timeLimit_s) {
+  IsolationLimits limits;
+  limits.time = std::chrono::milliseconds(std::llround(timeLimit_s * 1e3));
+  const std::string report = isolatedLoad(name + ": loading the part", [&] {
+    catchOcctFaults();
+    try {
+      return partReport(name, serial);
+    } catch (const GeometryError& e) {  // "solid has no volume": whose?
+      const std::string message = e.what();
+      throw GeometryError(message.find(name) == std::string::npos ? name + ": " + message : message);
+    }
+  }, limits);
+  std::fputs(report.c_str(), stdout);
   return 0;
 }
 
@@ -273,12 +303,17 @@ int main(int argc, char** argv) {
   info->add_option("part", partName, "Sample part name or .brep/.step file (mm)")->required();
   bool serialLoad = false;
   info->add_flag("--serial", serialLoad, "Check the part on one thread, as the FreeCAD workbench loads it");
+  double partTimeLimit_s = IsolationLimits().time.count() / 1e3;
+  info->add_option("--time-limit", partTimeLimit_s,
+                   "Seconds after which loading the part is given up (a damaged file can hang the reader); 0: none")
+      ->check(CLI::Range(0.0, 86400.0))
+      ->capture_default_str();
 
   CLI11_PARSE(app, argc, argv);
   try {
     if (app.got_subcommand("demo")) return demo();
     if (penetration->parsed()) return benchPenetration(ladder, json);
-    if (info->parsed()) return partInfo(partName, serialLoad);
+    if (info->parsed()) return partInfo(partName, serialLoad, partTimeLimit_s);
     if (graspCylinderCmd->parsed()) return graspCylinder(rate_hz, json);
     if (shakeCmd->parsed()) return shake(json, shakePlot);
     if (servoBench->parsed()) return cli::benchServo(servoOptions, json);

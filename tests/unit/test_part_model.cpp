@@ -177,6 +177,33 @@ TEST(PartModelBadInput, TruncatedBrepText) {
   }
 }
 
+// A section count no text of its length could hold: refused before OCCT sizes its tables
+// by it and spins through entries that are not there (11 s on the 1 KiB cylinder).
+TEST(PartModelBadInput, AbsurdSectionCountInBrepText) {
+  std::string text = brepText(cylinderShape(50, 400));
+  const std::size_t curves = text.find("\nCurves ");
+  ASSERT_NE(curves, std::string::npos);
+  text.replace(curves + 8, text.find('\n', curves + 1) - curves - 8, "2000000000");
+  expectGeometryError([&] { PartModel::fromBrepText(text, LengthUnit::Millimetre); },
+                      "its Curves section claims 2000000000 entries in a text of");
+}
+
+// NaN parameters send OCCT's reader round its curve trimming for minutes; OCCT never
+// writes them, so a text holding one is refused before it is read.
+TEST(PartModelBadInput, NotFiniteNumberInBrepText) {
+  const std::string text = brepText(cylinderShape(50, 400));
+  const std::size_t surfaces = text.find("\nSurfaces ");
+  ASSERT_NE(surfaces, std::string::npos);
+  for (const char* word : {"nan", "-nan", "inf", "-Infinity"}) {
+    SCOPED_TRACE(word);
+    std::string broken = text;
+    const std::size_t entry = broken.find('\n', surfaces + 1) + 1;  // "2 0 0 -200 ...": type, then numbers
+    broken.replace(entry + 2, broken.find(' ', entry + 2) - entry - 2, word);
+    expectGeometryError([&] { PartModel::fromBrepText(broken, LengthUnit::Millimetre); },
+                        std::string("it holds a number that is not finite (") + word + ")");
+  }
+}
+
 TEST(PartModelBadInput, MissingFile) {
   expectGeometryError([] { PartModel::fromFile(tempDir() / "no_such_part.brep", LengthUnit::Millimetre); },
                       "no such file");

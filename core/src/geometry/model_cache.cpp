@@ -1,6 +1,7 @@
 #include "hapticgrasp/geometry/model_cache.hpp"
 
 #include <BinTools.hxx>
+#include <Standard_ErrorHandler.hxx>
 #include <Standard_Failure.hxx>
 
 #include <algorithm>
@@ -196,6 +197,7 @@ PartModelPtr ModelCache::readEntry(const std::filesystem::path& path, const std:
     return nullptr;
   }
   try {
+    OCC_CATCH_SIGNALS  // a fault reading the entry rebuilds the part (occt_faults.hpp)
     if (payload.size() < 8) throw GeometryError("short payload");
     const std::uint64_t jsonSize = getU64(payload, 0);
     if (jsonSize > payload.size() - 8) throw GeometryError("bad record size");

@@ -11,6 +11,7 @@
 #include <GProp_GProps.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <STEPControl_Reader.hxx>
+#include <Standard_ErrorHandler.hxx>
 #include <Standard_Failure.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
@@ -29,6 +30,7 @@
 #include <fstream>
 #include <iterator>
 #include <streambuf>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -178,13 +180,72 @@ class BrepTextBuffer : public std::streambuf {
   std::string text_;
 };
 
+// Damage in a BREP text that OCCT's reader does not survive, found before it reads.
+
+// A section count ("Curves 135") larger than the text's lines: each entry takes at least
+// one, and OCCT sizes its tables by the count, then spins through entries that are not there.
+void checkSectionCount(std::string_view line, std::size_t lines, const std::string& what) {
+  static constexpr std::string_view kSections[] = {
+      "Locations", "Curve2ds",       "Curves", "Polygon3D", "Polygon2D", "PolygonOnTriangulations",
+      "Surfaces",  "Triangulations", "TShapes"};
+  const std::size_t space = line.find(' ');
+  const std::string_view section = line.substr(0, space);
+  if (space == std::string_view::npos ||
+      std::find(std::begin(kSections), std::end(kSections), section) == std::end(kSections))
+    return;
+  std::string_view count = line.substr(space + 1);
+  while (!count.empty() && std::isspace(static_cast<unsigned char>(count.back())))
+    count.remove_suffix(1);
+  if (count.empty() || count.find_first_not_of("0123456789") != std::string_view::npos)
+    return;  // not a header
+  if (count.size() > 18 || std::stoull(std::string(count)) > lines)
+    throw GeometryError(what + " could not be read: its " + std::string(section) +
+                        " section claims " + std::string(count) + " entries in a text of " +
+                        std::to_string(lines) + " lines");
+}
+
+// Numbers that are not finite: NaN parameters send the reader's curve trimming round for
+// minutes (or its recursion to the end of the stack), and OCCT never writes them.
+bool notFinite(std::string_view word) {
+  if (!word.empty() && (word[0] == '-' || word[0] == '+')) word.remove_prefix(1);
+  const auto is = [word](std::string_view name) {
+    return std::equal(word.begin(), word.end(), name.begin(), name.end(),
+                      [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == b; });
+  };
+  return is("nan") || is("inf") || is("infinity");
+}
+
+void checkNumbersFinite(std::string_view line, const std::string& what) {
+  for (std::size_t w = line.find_first_not_of(" \t\r"); w < line.size();
+       w = line.find_first_not_of(" \t\r", w)) {
+    const std::size_t end = std::min(line.find_first_of(" \t\r", w), line.size());
+    const std::string_view word = line.substr(w, end - w);
+    if (notFinite(word))
+      throw GeometryError(what + " could not be read: it holds a number that is not finite (" +
+                          std::string(word) + ")");
+    w = end;
+  }
+}
+
+void checkBrepText(std::string_view text, const std::string& what) {
+  const std::size_t lines = std::count(text.begin(), text.end(), '\n') + 1;
+  for (std::size_t start = 0; start < text.size();) {
+    const std::size_t end = std::min(text.find('\n', start), text.size());
+    checkSectionCount(text.substr(start, end - start), lines, what);
+    checkNumbersFinite(text.substr(start, end - start), what);
+    start = end + 1;
+  }
+}
+
 TopoDS_Shape readBrep(std::string text, const std::string& what) {
+  checkBrepText(text, what);
   BrepTextBuffer buffer(std::move(text));
   std::istream in(&buffer);
   in.exceptions(std::ios::badbit);  // rethrow what the buffer throws
   TopoDS_Shape shape;
   BRep_Builder builder;
   try {
+    OCC_CATCH_SIGNALS  // a fault in the reader becomes a Standard_Failure (occt_faults.hpp)
     BRepTools::Read(shape, in, builder);
   } catch (const EndOfBrepText&) {
     throw GeometryError(what + " could not be read: truncated, or not BREP");
@@ -321,6 +382,7 @@ TopoDS_Shape PartModel::readFile(const std::filesystem::path& path, LengthUnit& 
   if (std::filesystem::file_size(path) == 0) throw GeometryError("empty file: " + path.string());
   const std::string ext = lowerExtension(path);
   try {
+    OCC_CATCH_SIGNALS  // a fault in the STEP reader becomes a Standard_Failure (occt_faults.hpp)
     if (ext == ".step" || ext == ".stp") {
       unit = LengthUnit::Millimetre;  // OCCT's STEP reader converts every file to mm
       return readStep(path);
@@ -356,6 +418,7 @@ PartModelPtr PartModel::load(const TopoDS_Shape& input, LengthUnit unit, std::st
   part->metresPerUnit_ = metresPer(unit);
   const double s = part->metresPerUnit_;
   try {
+    OCC_CATCH_SIGNALS  // damaged geometry can fault the checks and integrals too
     const Clock::time_point checkStart = Clock::now();
     OutwardSolids outward = outwardSolids(closedSolidsOf(input, s, part->warnings_), part->warnings_);
     PartCheck check = checkPart(outward.shape, options, s);
