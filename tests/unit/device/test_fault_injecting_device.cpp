@@ -90,36 +90,36 @@ TEST(FaultInjectingDevice, NonFiniteSamplesAreHandledAndNeverReachTheOutput) {
   EXPECT_EQ(r.unboundedOutputs, 0u);
 }
 
-TEST(FaultInjectingDevice, ALoopThatKeepsPushingThroughSilenceIsCaught) {
-  auto hand = std::make_shared<PressingHand>();
+// Drives the device by hand as a (misbehaving) loop would: read, then write what `command`
+// gives for the tick's time, until `until_s`; returns the verdicts.
+template <typename Command>
+FaultReport driveByHand(std::vector<Fault> schedule, double until_s, Command command) {
   double clock = 0;
-  FaultInjectingDevice faults(hand, {{FaultKind::Silence, 0.1, 0.2}}, kRate, 0.015, 1, WanderAmplitude{Vec3::Zero()},
-                              [&] { return clock; });
+  FaultInjectingDevice faults(std::make_shared<PressingHand>(), std::move(schedule), kRate, 0.015, 1,
+                              WanderAmplitude{Vec3::Zero()}, [&] { return clock; });
   DeviceSample s;
+  for (; clock < until_s; clock += kT) {
+    faults.read(s);
+    faults.write(command(clock));
+  }
+  return faults.report();
+}
+
+TEST(FaultInjectingDevice, ALoopThatKeepsPushingThroughSilenceIsCaught) {
   DeviceCommand pushing;
   pushing.f_index = Vec3(0, 0, 1);
-  for (; clock < 0.5; clock += kT) {
-    faults.read(s);
-    faults.write(pushing);  // never zeroed: not what the loop does
-  }
-  const FaultReport r = faults.report();
+  // Never zeroed: not what the loop does.
+  const FaultReport r = driveByHand({{FaultKind::Silence, 0.1, 0.2}}, 0.5, [&](double) { return pushing; });
   EXPECT_EQ(r.injected[k(FaultKind::Silence)], 1u);
   EXPECT_EQ(r.handled[k(FaultKind::Silence)], 0u);
 }
 
 TEST(FaultInjectingDevice, ANonFiniteCommandIsCountedAndFailsTheFaultUnderWay) {
-  auto hand = std::make_shared<PressingHand>();
-  double clock = 0;
-  FaultInjectingDevice faults(hand, {{FaultKind::Stall, 0.1, 0.001}}, kRate, 0.015, 1, WanderAmplitude{Vec3::Zero()},
-                              [&] { return clock; });
-  DeviceSample s;
-  DeviceCommand bad;
-  for (; clock < 0.3; clock += kT) {
-    faults.read(s);
-    bad.f_thumb.x() = clock > 0.1 && clock < 0.102 ? std::nan("") : 0.0;
-    faults.write(bad);
-  }
-  const FaultReport r = faults.report();
+  const FaultReport r = driveByHand({{FaultKind::Stall, 0.1, 0.001}}, 0.3, [](double t) {
+    DeviceCommand bad;
+    bad.f_thumb.x() = t > 0.1 && t < 0.102 ? std::nan("") : 0.0;
+    return bad;
+  });
   EXPECT_EQ(r.nanOutputs, 4u);
   EXPECT_EQ(r.injected[k(FaultKind::Stall)], 1u);
   EXPECT_EQ(r.handled[k(FaultKind::Stall)], 0u);
