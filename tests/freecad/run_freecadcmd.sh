@@ -9,4 +9,4 @@ home=$(mktemp -d)
 trap 'rm -rf "$home"' EXIT INT TERM
 mkdir -p "$home/.local/share/FreeCAD/Mod"
 ln -s "$addon" "$home/.local/share/FreeCAD/Mod/HapticGrasp"
-HOME="$home" timeout -k 10 300 "$freecadcmd" -t "$module"
+HOME="$home" timeout -k 10 600 "$freecadcmd" -t "$module"
