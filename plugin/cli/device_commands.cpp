@@ -1,5 +1,7 @@
 #include "device_commands.hpp"
 
+#include <malloc.h>
+
 #include <cstdio>
 #include <iostream>
 
@@ -81,6 +83,12 @@ int benchScene(servo::SceneBenchOptions options, bool json) {
 namespace hg::cli {
 
 int soak(servo::SoakOptions options, bool json) {
+  // One malloc arena for the whole soak. glibc gives each new thread an arena of its own and
+  // keeps the pages a finished thread freed there; every segment starts its servo, recorder
+  // and build threads anew, so over an hour resident memory crept up by 11.6 MB while the
+  // bytes in use stayed flat (fragmentation, not a leak). The servo thread allocates nothing,
+  // so sharing one arena costs it nothing; set before the first thread exists.
+  mallopt(M_ARENA_MAX, 1);
   options.realtime = true;
   options.allocationCounter = &servo::threadAllocations;
   const servo::SoakResult r = servo::runSoak(options);
@@ -95,9 +103,11 @@ int soak(servo::SoakOptions options, bool json) {
   for (int k = 0; k < device::kFaultKinds; ++k)
     std::printf(" %s %llu/%llu", device::toString(static_cast<device::FaultKind>(k)),
                 static_cast<unsigned long long>(r.handled[k]), static_cast<unsigned long long>(r.injected[k]));
-  std::printf("\n  NaN outputs %llu, unbounded %llu, servo allocations %ld, RSS growth %lld B (RSS %.1f MB)\n",
+  std::printf("\n  NaN outputs %llu, unbounded %llu, servo allocations %ld, RSS growth %lld B (RSS %.1f MB), "
+              "heap in use growth %lld B\n",
               static_cast<unsigned long long>(r.nan_outputs), static_cast<unsigned long long>(r.unbounded_outputs),
-              r.allocations, static_cast<long long>(r.rss_growth_bytes), r.rss_bytes / 1e6);
+              r.allocations, static_cast<long long>(r.rss_growth_bytes), r.rss_bytes / 1e6,
+              static_cast<long long>(r.heap_growth_bytes));
   std::printf("  period error max %.0f us (stalls included), %.0f us outside stalls; grasps %llu, lifts %llu, "
               "watchdog trips %llu, clears %llu\n",
               r.max_period_err_us, r.max_period_err_unstalled_us, static_cast<unsigned long long>(r.grasps),

@@ -1,5 +1,6 @@
 #include "hapticgrasp/servo/soak.hpp"
 
+#include <malloc.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -30,6 +31,13 @@ std::int64_t residentBytes() {
   std::int64_t size = 0, resident = 0;
   statm >> size >> resident;
   return resident * sysconf(_SC_PAGESIZE);
+}
+
+// What the program holds from malloc, every arena summed, mmapped blocks included: grows only
+// when something is kept (a leak or a cache), not when the allocator keeps freed pages.
+std::int64_t heapInUseBytes() {
+  const struct mallinfo2 m = mallinfo2();
+  return static_cast<std::int64_t>(m.uordblks + m.hblkhd);
 }
 
 // The swap the workbench makes when a part's model is rebuilt: the same part answered by
@@ -93,7 +101,7 @@ SoakResult runSoak(const SoakOptions& o) {
   std::mt19937_64 random(o.seed);
   SoakResult r;
   r.allocations = o.allocationCounter ? 0 : -1;
-  std::int64_t warm = -1;
+  std::int64_t warm = -1, warmHeap = -1;
   int kindCursor = 0;  // the device faults' kinds go round across segments
   for (int s = 0; s < segments; ++s) {
     ServoBenchOptions b;
@@ -128,7 +136,13 @@ SoakResult runSoak(const SoakOptions& o) {
     const ServoBenchResult segment = runServoBench(b);
     add(r, segment, faults->report());
     if (o.record) fs::remove(b.recordPath);
-    if (s + 1 == std::min(kRound, segments)) warm = residentBytes();
+    // The segment's scene, models, recorder and threads are gone: give their freed pages back,
+    // as the workbench does when a session stops, so that resident memory counts what is kept.
+    malloc_trim(0);
+    if (s + 1 == std::min(kRound, segments)) {
+      warm = residentBytes();
+      warmHeap = heapInUseBytes();
+    }
   }
   if (o.record && o.recordDir.empty()) fs::remove_all(dir);
   r.seconds = total_s;
@@ -138,6 +152,7 @@ SoakResult runSoak(const SoakOptions& o) {
   }
   r.rss_bytes = residentBytes();
   r.rss_growth_bytes = r.rss_bytes - warm;
+  r.heap_growth_bytes = heapInUseBytes() - warmHeap;
   return r;
 }
 
@@ -156,6 +171,7 @@ std::string toJson(const SoakResult& r, int indent) {
                             {"faults", faults},
                             {"rss_growth_bytes", r.rss_growth_bytes},
                             {"rss_bytes", r.rss_bytes},
+                            {"heap_growth_bytes", r.heap_growth_bytes},
                             {"max_period_err_us", r.max_period_err_us},
                             {"max_period_err_unstalled_us", r.max_period_err_unstalled_us},
                             {"achieved_hz_min", r.achieved_hz_min},

@@ -41,6 +41,7 @@ struct SoakResult {
   std::uint64_t faults_injected = 0, faults_handled = 0;
   std::int64_t rss_growth_bytes = 0;  // resident memory at the end less after the first round of parts and methods
   std::int64_t rss_bytes = 0;         // at the end
+  std::int64_t heap_growth_bytes = 0; // malloc's bytes in use, the same way: a leak or a cache, not fragmentation
   double max_period_err_us = 0;       // as the loop measured it, the injected stalls included
   double max_period_err_unstalled_us = 0;  // the tick after each stall left out
   double achieved_hz_min = 0;
@@ -56,7 +57,7 @@ SoakResult runSoak(const SoakOptions& options);
 
 // {"seconds", "segments", "ticks", "nan_outputs", "unbounded_outputs", "allocations",
 //  "faults_injected", "faults_handled", "faults": {kind: {"injected", "handled"}},
-//  "rss_growth_bytes", "rss_bytes", "max_period_err_us", "max_period_err_unstalled_us",
+//  "rss_growth_bytes", "rss_bytes", "heap_growth_bytes", "max_period_err_us", "max_period_err_unstalled_us",
 //  "achieved_hz_min", "grasps", "lifts", "watchdog_trips", "watchdog_clears",
 //  "recording": {"bytes", "dropped_records", "error"}, "scheduler", "passed"}
 std::string toJson(const SoakResult& result, int indent = 2);
