@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <regex>
 #include <stdexcept>
 #include <utility>
 
@@ -27,6 +28,24 @@ using namespace hg;
 using namespace hg::geometry;
 
 void logLine(const std::string& text) { std::cerr << text << std::endl; }
+
+// An error as one line: OpenCASCADE's messages run over lines ("EXCEPTION in
+// BinTools_CurveSet::ReadCurve(..)\n0x55e1... : Standard_ConstructionError: ..."), and the
+// object's address means nothing to the user.
+std::string oneLine(const std::string& message) {
+  static const std::regex address("0x[0-9a-fA-F]+ : ");
+  std::string text = std::regex_replace(message, address, "");
+  std::string out;
+  for (char c : text) {
+    if (c == '\n' || c == '\r') {
+      if (!out.empty() && out.back() != ' ') out += "; ";
+    } else {
+      out += c;
+    }
+  }
+  while (!out.empty() && (out.back() == ' ' || out.back() == ';')) out.pop_back();
+  return out;
+}
 
 int benchPenetration(const cli::LadderOptions& options, bool json) {
   logLine("penetration ladder on " + options.part);
@@ -251,11 +270,18 @@ int main(int argc, char** argv) {
   CLI::App* recordingInfoCmd = recordingCmd->add_subcommand("info", "What a recording holds (works on truncated files)");
   recordingInfoCmd->add_option("file", recordingPath, "A .mcap recording")->required();
   recordingInfoCmd->add_flag("--json", json, "Print JSON");
+  double recordingTimeLimit_s = 60, replayTimeLimit_s = 600;
+  recordingInfoCmd->add_option("--time-limit", recordingTimeLimit_s, "Seconds after which reading is given up; 0: none")
+      ->check(CLI::Range(0.0, 86400.0))
+      ->capture_default_str();
   bool replayCheck = false;
   CLI::App* replayCmd = app.add_subcommand("replay", "Re-simulate a recording through the same grasp engine");
   replayCmd->add_option("file", recordingPath, "A .mcap recording")->required();
   replayCmd->add_flag("--check", replayCheck, "Compare with what was recorded; exit 1 unless identical");
   replayCmd->add_flag("--json", json, "Print JSON");
+  replayCmd->add_option("--time-limit", replayTimeLimit_s, "Seconds after which the replay is given up; 0: none")
+      ->check(CLI::Range(0.0, 86400.0))
+      ->capture_default_str();
   CLI::App* reportCmd = app.add_subcommand("report", "Write a recording's report as one self-contained HTML page");
   reportCmd->add_option("file", recordingPath, "A .mcap recording")->required();
   reportCmd->add_option("-o,--output", reportOutput, "The report to write (.html)")->required();
@@ -325,11 +351,11 @@ int main(int argc, char** argv) {
       return cli::soak(soakOptions, json);
     }
     if (recordCmd->parsed()) return cli::record(recordOptions, json);
-    if (recordingInfoCmd->parsed()) return cli::recordingInfo(recordingPath, json);
-    if (replayCmd->parsed()) return cli::replay(recordingPath, replayCheck, json);
+    if (recordingInfoCmd->parsed()) return cli::recordingInfo(recordingPath, json, recordingTimeLimit_s);
+    if (replayCmd->parsed()) return cli::replay(recordingPath, replayCheck, json, replayTimeLimit_s);
     if (reportCmd->parsed()) return cli::report(recordingPath, reportOutput);
   } catch (const std::exception& e) {  // GeometryError, HidError, invalid_argument: one line
-    std::cerr << "hapticgrasp: " << e.what() << std::endl;
+    std::cerr << "hapticgrasp: " << oneLine(e.what()) << std::endl;
     return 2;
   }
   return 0;

@@ -4,15 +4,21 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <functional>
+#include <stdexcept>
 #include <iostream>
 #include <string>
 #include <vector>
 
 #include "device_commands.hpp"
+#include "hapticgrasp/geometry/isolated_load.hpp"
+#include "hapticgrasp/geometry/occt_faults.hpp"
 #include "hapticgrasp/install_layout.hpp"
 #include "hapticgrasp/session/recording.hpp"
 #include "hapticgrasp/session/replay.hpp"
@@ -21,47 +27,89 @@ namespace hg::cli {
 
 int record(servo::ServoBenchOptions options, bool json) { return benchServo(std::move(options), json); }
 
-int recordingInfo(const std::string& path, bool json) {
+namespace {
+
+// printf into a string: the verbs below compose their output in an isolated child.
+template <class... Args>
+void appendf(std::string& out, const char* format, Args... args) {
+  const int n = std::snprintf(nullptr, 0, format, args...);
+  const std::size_t at = out.size();
+  out.resize(at + n + 1);
+  std::snprintf(out.data() + at, n + 1, format, args...);
+  out.resize(at + n);
+}
+
+std::string describeRecording(const std::string& path, bool json) {
   const session::RecordingInfo info = session::readRecordingInfo(path);
-  if (json) {
-    std::cout << session::toJson(info) << std::endl;
-    return 0;
-  }
+  if (json) return session::toJson(info) + "\n";
+  std::string out;
   const session::SessionDescription& d = info.description;
-  std::printf("recording %s: %s, %.3f s, %llu messages, %.2f MB\n", path.c_str(),
-              info.complete ? "complete" : "cut short", info.duration_s,
-              static_cast<unsigned long long>(info.messages), info.bytes / 1e6);
-  std::printf("  recorded %s by %s (%s)\n", d.created_utc.c_str(), d.software.c_str(), d.build.c_str());
-  std::printf("  %s method, %d fingertips, %.0f Hz, device '%s'%s%s\n", d.method.c_str(), d.fingertips, d.rate_hz,
-              d.device.name.c_str(), d.document.empty() ? "" : ", document ", d.document.c_str());
-  std::printf("  parts:");
-  for (const session::RecordedPart& p : d.parts) std::printf(" %s (%s)", p.name.c_str(), p.backend.c_str());
-  std::printf("\n");
+  appendf(out, "recording %s: %s, %.3f s, %llu messages, %.2f MB\n", path.c_str(),
+          info.complete ? "complete" : "cut short", info.duration_s, static_cast<unsigned long long>(info.messages),
+          info.bytes / 1e6);
+  appendf(out, "  recorded %s by %s (%s)\n", d.created_utc.c_str(), d.software.c_str(), d.build.c_str());
+  appendf(out, "  %s method, %d fingertips, %.0f Hz, device '%s'%s%s\n", d.method.c_str(), d.fingertips, d.rate_hz,
+          d.device.name.c_str(), d.document.empty() ? "" : ", document ", d.document.c_str());
+  out += "  parts:";
+  for (const session::RecordedPart& p : d.parts) appendf(out, " %s (%s)", p.name.c_str(), p.backend.c_str());
+  out += "\n";
   for (const auto& [topic, count] : info.topics)
-    std::printf("  %-28s %llu\n", topic.c_str(), static_cast<unsigned long long>(count));
+    appendf(out, "  %-28s %llu\n", topic.c_str(), static_cast<unsigned long long>(count));
   for (const session::Annotation& a : info.annotations)
-    std::printf("  note at %.3f s%s%s: %s\n", a.time_s, a.part.empty() ? "" : " on ", a.part.c_str(), a.text.c_str());
-  if (!info.complete) std::printf("  readable up to %.3f s\n", info.lastGood_s);
-  for (const std::string& w : info.warnings) std::printf("  warning: %s\n", w.c_str());
+    appendf(out, "  note at %.3f s%s%s: %s\n", a.time_s, a.part.empty() ? "" : " on ", a.part.c_str(), a.text.c_str());
+  if (!info.complete) appendf(out, "  readable up to %.3f s\n", info.lastGood_s);
+  for (const std::string& w : info.warnings) appendf(out, "  warning: %s\n", w.c_str());
+  return out;
+}
+
+// The replay's output, after one character: '=' when bit-identical, '!' when not.
+std::string replayRecording(const std::string& path, bool json) {
+  const session::ReplayCheck c = session::replay(path);
+  const bool identical = c.stateMismatches == 0 && c.eventMismatches == 0 && c.maxForceDiff_N == 0 && c.maxPoseDiff_m == 0;
+  std::string out(1, identical ? '=' : '!');
+  if (json) return out + session::toJson(c) + "\n";
+  appendf(out, "replay %s: %llu ticks re-simulated; %s\n", path.c_str(), static_cast<unsigned long long>(c.ticks),
+          identical ? "bit-identical to the recording" : "differs from the recording");
+  appendf(out, "  state mismatches %llu, event mismatches %llu, largest force difference %.3g N, "
+          "largest pose difference %.3g m\n",
+          static_cast<unsigned long long>(c.stateMismatches), static_cast<unsigned long long>(c.eventMismatches),
+          c.maxForceDiff_N, c.maxPoseDiff_m);
+  if (c.firstMismatchTick)
+    appendf(out, "  first difference at tick %llu\n", static_cast<unsigned long long>(c.firstMismatchTick));
+  for (const std::string& w : c.warnings) appendf(out, "  warning: %s\n", w.c_str());
+  return out;
+}
+
+// A recording is someone else's file, and its attachments are B-reps that OCCT reads: as
+// `parts info` does with a part, the work runs in a child under a time and memory limit
+// (isolated_load.hpp), with OCCT's fault handlers, so a hostile file gives one error line.
+std::string isolated(const std::string& path, const std::string& what, double timeLimit_s,
+                     const std::function<std::string()>& work) {
+  geometry::IsolationLimits limits;
+  limits.time = std::chrono::milliseconds(std::llround(timeLimit_s * 1e3));
+  return geometry::isolatedLoad(what, [&] {
+    geometry::catchOcctFaults();
+    try {
+      return work();
+    } catch (const std::exception& e) {  // "part 'loft': its attached BREP does not read": in which file?
+      const std::string message = e.what();
+      throw std::runtime_error(message.find(path) == std::string::npos ? path + ": " + message : message);
+    }
+  }, limits);
+}
+
+}  // namespace
+
+int recordingInfo(const std::string& path, bool json, double timeLimit_s) {
+  std::fputs(isolated(path, path + ": reading the recording", timeLimit_s, [&] { return describeRecording(path, json); }).c_str(),
+             stdout);
   return 0;
 }
 
-int replay(const std::string& path, bool check, bool json) {
-  const session::ReplayCheck c = session::replay(path);
-  const bool identical = c.stateMismatches == 0 && c.eventMismatches == 0 && c.maxForceDiff_N == 0 && c.maxPoseDiff_m == 0;
-  if (json) {
-    std::cout << session::toJson(c) << std::endl;
-  } else {
-    std::printf("replay %s: %llu ticks re-simulated; %s\n", path.c_str(), static_cast<unsigned long long>(c.ticks),
-                identical ? "bit-identical to the recording" : "differs from the recording");
-    std::printf("  state mismatches %llu, event mismatches %llu, largest force difference %.3g N, "
-                "largest pose difference %.3g m\n",
-                static_cast<unsigned long long>(c.stateMismatches), static_cast<unsigned long long>(c.eventMismatches),
-                c.maxForceDiff_N, c.maxPoseDiff_m);
-    if (c.firstMismatchTick) std::printf("  first difference at tick %llu\n", static_cast<unsigned long long>(c.firstMismatchTick));
-    for (const std::string& w : c.warnings) std::printf("  warning: %s\n", w.c_str());
-  }
-  return check && !identical ? 1 : 0;
+int replay(const std::string& path, bool check, bool json, double timeLimit_s) {
+  const std::string out = isolated(path, path + ": replaying", timeLimit_s, [&] { return replayRecording(path, json); });
+  std::fputs(out.c_str() + 1, stdout);
+  return check && out.front() != '=' ? 1 : 0;
 }
 
 // The report is drawn by Python's matplotlib (Debian's) from what the core's reader gives

@@ -1,13 +1,14 @@
 #!/usr/bin/env python3
-"""`hapticgrasp parts info` on broken copies of a part: a result or one clear error line.
+"""`hapticgrasp parts info` (or another verb) on broken copies of a file: a result or one
+clear error line.
 
-Makes the copies (make_hostile.py, seeded) of SOURCE in WORK_DIR and runs the command on
-each. Every run must end by itself within 10 s (issue 14's budget), not by a signal, with
+Makes the copies (make_hostile.py, seeded) of SOURCE in WORK_DIR, and for a recording also
+copies whose attached parts are broken (hostile_recording.py), and runs the command on each. Every run must end by itself within 10 s (issue 14's budget), not by a signal, with
 exit code 0, or 1 or 2 and exactly one line on stderr that starts with "hapticgrasp: " and
 names the file; its peak resident memory must stay under the bound. Prints one line per
 copy.
 
-Usage: check_hostile.py HAPTICGRASP WORK_DIR SOURCE [MAX_RSS_MIB]
+Usage: check_hostile.py HAPTICGRASP WORK_DIR SOURCE [MAX_RSS_MIB [VERB...]]   (VERB: parts info)
 """
 import os
 import pathlib
@@ -18,6 +19,7 @@ import tempfile
 import threading
 import time
 
+import hostile_recording
 import make_hostile
 
 BUDGET_S = 10  # the requirement: a verdict within 10 s of asking
@@ -60,11 +62,14 @@ def verdict(status, stderr, seconds, rss_mib, max_rss_mib, file_name):
     return None
 
 
-def main(hapticgrasp, work_dir, source, max_rss_mib=1024):
-    copies = make_hostile.make_copies(pathlib.Path(work_dir), [pathlib.Path(source)])
+def main(hapticgrasp, work_dir, source, max_rss_mib=1024, *verb):
+    source, work_dir = pathlib.Path(source), pathlib.Path(work_dir)
+    copies = make_hostile.make_copies(work_dir, [source])
+    if source.suffix == ".mcap":
+        copies += hostile_recording.make_copies(work_dir, source)
     failures = 0
     for copy in copies:
-        status, stderr, seconds, rss = run([hapticgrasp, "parts", "info", str(copy)])
+        status, stderr, seconds, rss = run([hapticgrasp, *(verb or ("parts", "info")), str(copy)])
         wrong = verdict(status, stderr, seconds, rss, int(max_rss_mib), copy.name)
         failures += wrong is not None
         outcome = "result" if os.WIFEXITED(status) and os.WEXITSTATUS(status) == 0 else stderr.strip()[:160]
@@ -74,6 +79,6 @@ def main(hapticgrasp, work_dir, source, max_rss_mib=1024):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) not in (4, 5):
+    if len(sys.argv) < 4:
         sys.exit(__doc__)
     sys.exit(main(*sys.argv[1:]))

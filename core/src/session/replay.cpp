@@ -55,7 +55,9 @@ grasp::ScenePart rebuildPart(const RecordedPart& p) {
     try {
       BinTools::Read(shape, in);
     } catch (const Standard_Failure& e) {
-      throw SessionError("part '" + p.name + "': its attached BREP does not read: " + e.GetMessageString());
+      const std::string why = e.GetMessageString();
+      throw SessionError("part '" + p.name + "': its attached BREP does not read: " +
+                         (why.empty() ? std::string(e.DynamicType()->Name()) : why));
     }
     const auto model = geometry::PartModel::fromShape(shape, p.unit, p.name);
     const geometry::Backend backend = p.backend == "box" ? geometry::Backend::Auto : geometry::parseBackend(p.backend);
