@@ -198,7 +198,8 @@ std::string toJson(const ReplayCheck& c, int indent) {
                         {"first_mismatch_tick", c.firstMismatchTick},
                         {"complete", c.complete},
                         {"warnings", c.warnings}}
-      .dump(indent);
+      // Warnings quote the file (its software string...): not always UTF-8 (fuzz_recording).
+      .dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 }  // namespace hg::session
