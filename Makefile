@@ -2,7 +2,7 @@
 BUILD ?= build
 JOBS  ?= 2
 
-.PHONY: deps build demo test bench package clean
+.PHONY: deps build demo test bench package fuzz clean
 deps:
 	packaging/install-deps
 
@@ -30,5 +30,16 @@ package: build
 bench: build
 	for p in cylinder block loft plate; do $(BUILD)/plugin/cli/hapticgrasp bench penetration --part $$p; done
 
+# libFuzzer over every loader (README: Fuzzing): a clang build of its own, instrumented
+# with ASan and UBSan (only what the targets need is built), then each target for
+# FUZZ_SECONDS over a copy of its seeds (tests/fuzz/corpus). Not part of `make test`.
+FUZZ_BUILD   ?= build-fuzz
+FUZZ_SECONDS ?= 30
+fuzz: deps
+	cmake -S . -B $(FUZZ_BUILD) -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++ -DHG_FUZZ=ON \
+	  -DHG_FUZZ_SECONDS=$(FUZZ_SECONDS) -DPython_EXECUTABLE=/usr/bin/python3
+	cmake --build $(FUZZ_BUILD) -j $(JOBS) --target fuzz_targets
+	cd $(FUZZ_BUILD) && ctest -L fuzz --output-on-failure -j $(JOBS)
+
 clean:
-	rm -rf $(BUILD)
+	rm -rf $(BUILD) $(FUZZ_BUILD)

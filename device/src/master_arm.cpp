@@ -44,6 +44,19 @@ std::array<int, kArmJoints> columnsOf(const KDL::Chain& chain, const std::string
   return cols;
 }
 
+// urdfdom links each link to its children by shared_ptr. A joint whose child is its own
+// parent (or any loop of joints) makes a cycle, and the parsed model, refused later by
+// kdl_parser, was never freed (found by fuzz_urdf). The model is only read while the KDL
+// tree is built, so its child lists are cleared when it goes, loop or not.
+struct UrdfModelRelease {
+  urdf::ModelInterfaceSharedPtr model;
+  ~UrdfModelRelease() {
+    if (!model) return;
+    for (auto& [name, link] : model->links_)
+      if (link) link->child_links.clear();
+  }
+};
+
 }  // namespace
 
 const std::array<const char*, kArmJoints>& ArmModel::jointNames() { return kJointNames; }
@@ -66,6 +79,7 @@ std::shared_ptr<const ArmModel> ArmModel::fromString(const std::string& urdfXml)
 
 std::shared_ptr<const ArmModel> ArmModel::build(const std::string& xml, const std::string& what) {
   const urdf::ModelInterfaceSharedPtr urdfModel = urdf::parseURDF(xml);
+  const UrdfModelRelease release{urdfModel};
   if (!urdfModel) throw std::runtime_error("master arm: " + what + " is not a valid URDF");
   KDL::Tree tree;
   if (!kdl_parser::treeFromUrdfModel(*urdfModel, tree))

@@ -453,6 +453,7 @@ TEST(HidLayout, EveryErrorNamesItsField) {
       {R"({"name": "x", "path": "/dev/hidraw1", "report_size": 4, "fields": []})", "fields", "non-empty array"},
       {R"({"name": "x", "path": 3, "report_size": 4, "fields": []})", "path", "device path"},
       {"{\"name\": \"x\", ", "(json)", "syntax error"},
+      {replaced(kBase, R"("watchdog_ms": 20)", R"("watchdog_ms": 1e400)"), "(json)", "number out of range"},
       {"[1, 2]", "(root)", "expected a JSON object"},
   };
   for (std::size_t i = 0; i < cases.size(); ++i) {

@@ -8,6 +8,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <random>
 #include <set>
 #include <vector>
@@ -64,6 +66,18 @@ TEST(MasterArm, LoadsTheUrdf) {
   for (int j = 0; j < kArmJoints; ++j) EXPECT_LT(m.lowerLimits()[j], m.upperLimits()[j]);
   EXPECT_THROW(ArmModel::fromFile("/nonexistent/arm.urdf"), std::runtime_error);
   EXPECT_THROW(ArmModel::fromString("<robot name='x'><link name='base'/></robot>"), std::runtime_error);
+}
+
+// A joint whose child is its own parent: a clear error, and (fuzz_urdf, under
+// LeakSanitizer) the parsed model no longer leaks through the loop it makes.
+TEST(MasterArm, JointLoopIsRefused) {
+  std::ifstream in(ArmModel::defaultUrdfPath());
+  std::string urdf((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string joint = R"(<parent link="shoulder_yoke1"/><child link="shoulder_yoke2"/>)";
+  const std::size_t at = urdf.find(joint);
+  ASSERT_NE(at, std::string::npos);
+  urdf.replace(at, joint.size(), R"(<parent link="shoulder_yoke2"/><child link="shoulder_yoke2"/>)");
+  EXPECT_THROW(ArmModel::fromString(urdf), std::runtime_error);
 }
 
 TEST(MasterArm, ForwardKinematicsZeroPose) {

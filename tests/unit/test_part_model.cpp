@@ -29,6 +29,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -202,6 +203,20 @@ TEST(PartModelBadInput, NotFiniteNumberInBrepText) {
     expectGeometryError([&] { PartModel::fromBrepText(broken, LengthUnit::Millimetre); },
                         std::string("it holds a number that is not finite (") + word + ")");
   }
+}
+
+// A word where the reader expects a number fails the stream, after which every read does
+// nothing and OCCT's reader spins through its counts: the edge's "1  5 0 -10 10" (curve 5
+// on [-10, 10]) as "1 (5 0 -10 10" never returned (fuzz_brep; the input is in its corpus).
+TEST(PartModelBadInput, WordForANumberInBrepText) {
+  std::string text = readFile(fs::path(HG_TEST_DATA_DIR) / "../corpus/parts/trimmed_surfaces.brep");
+  const std::size_t edgeCurve = text.find("\n1  5 0 -10 10\n");
+  ASSERT_NE(edgeCurve, std::string::npos);
+  text.replace(edgeCurve + 3, 1, "(");
+  const auto start = std::chrono::steady_clock::now();
+  expectGeometryError([&] { PartModel::fromBrepText(text, LengthUnit::Millimetre); },
+                      "BREP text could not be read: truncated, or not BREP");
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5.0);
 }
 
 TEST(PartModelBadInput, MissingFile) {

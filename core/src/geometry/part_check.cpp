@@ -6,6 +6,7 @@
 #include <Bnd_Box.hxx>
 #include <GProp_GProps.hxx>
 #include <Precision.hxx>
+#include <Standard_ErrorHandler.hxx>
 #include <Standard_Failure.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
@@ -64,9 +65,12 @@ std::optional<ValidityProblem> firstProblemOfEachShape(const TopoDS_Shape& solid
   return std::nullopt;
 }
 
-// The crossing search, or nothing if OCCT failed in it.
+// The crossing search, or nothing if OCCT failed in it. A fault is caught here, in the
+// thread that runs the search: caught further up (PartModel::load), it would jump past the
+// frames between, and past findDefects' future (found by fuzz_brep).
 std::optional<CrossingSearch> searchCrossings(const TopoDS_Shape& solids) {
   try {
+    OCC_CATCH_SIGNALS
     return findFaceCrossings(solids);
   } catch (const Standard_Failure&) {
     return std::nullopt;  // what the validity check finds stands
@@ -82,6 +86,10 @@ Findings findDefects(const TopoDS_Shape& solids, const PartLoadOptions& options)
     crossings = std::async(options.parallel ? std::launch::async : std::launch::deferred,
                            [&solids] { return searchCrossings(solids); });
   try {
+    // A fault in BRepCheck is caught here, not in PartModel::load: jumping there would skip
+    // the future below, leaking it and, with `parallel`, leaving the search running on a
+    // shape about to be freed (fuzz_brep found such a part: BRepCheck at address 0).
+    OCC_CATCH_SIGNALS
     if (const auto problem = firstProblemOfEachShape(solids)) found.defect = describe(*problem, solids);
   } catch (const Standard_Failure& e) {
     found.defect = std::string("BRepCheck failed on the shape (") + e.GetMessageString() + ")";

@@ -241,13 +241,19 @@ TopoDS_Shape readBrep(std::string text, const std::string& what) {
   checkBrepText(text, what);
   BrepTextBuffer buffer(std::move(text));
   std::istream in(&buffer);
-  in.exceptions(std::ios::badbit);  // rethrow what the buffer throws
+  // badbit: rethrow what the buffer throws. failbit: a word that is not the number the
+  // reader expects ("1 (5 0") leaves the stream failed, every later read then does nothing,
+  // and the reader spins through its counts forever (found by fuzz_brep); a complete text
+  // never fails a read.
+  in.exceptions(std::ios::badbit | std::ios::failbit);
   TopoDS_Shape shape;
   BRep_Builder builder;
   try {
     OCC_CATCH_SIGNALS  // a fault in the reader becomes a Standard_Failure (occt_faults.hpp)
     BRepTools::Read(shape, in, builder);
   } catch (const EndOfBrepText&) {
+    throw GeometryError(what + " could not be read: truncated, or not BREP");
+  } catch (const std::ios_base::failure&) {
     throw GeometryError(what + " could not be read: truncated, or not BREP");
   } catch (const Standard_Failure& e) {
     throw GeometryError(what + " could not be read: " + e.GetMessageString());

@@ -112,7 +112,9 @@ std::string toJson(const RecordingInfo& info, int indent) {
                         {"rate_hz", d.rate_hz},
                         {"software", d.software},
                         {"created_utc", d.created_utc}}
-      .dump(indent);
+      // Topic names, annotations and warnings are the file's bytes, not always UTF-8: dump()
+      // threw type_error.316 on them (fuzz_recording). A bad byte becomes U+FFFD instead.
+      .dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 }  // namespace hg::session

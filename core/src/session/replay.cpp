@@ -147,8 +147,16 @@ ReplayCheck replay(const std::string& path,
     config.realtime = false;
     config.watchdogRamp_s = description->watchdogRamp_s;
     config.passivityController = description->passivityController;
-    scene = rebuildScene(*description);
-    loop = std::make_unique<servo::ServoLoop>(device, rebuildEngine(*description, scene), config);
+    // The description is the file's: a value the loop, the engine or a part's model refuses
+    // (a watchdog ramp of 5 s, found by fuzz_recording) is a recording that does not replay.
+    try {
+      scene = rebuildScene(*description);
+      loop = std::make_unique<servo::ServoLoop>(device, rebuildEngine(*description, scene), config);
+    } catch (const std::invalid_argument& e) {
+      throw SessionError(std::string("recording: its session cannot be rebuilt: ") + e.what());
+    } catch (const geometry::GeometryError& e) {
+      throw SessionError(std::string("recording: its session cannot be rebuilt: ") + e.what());
+    }
     for (const auto& [id, channel] : reader.channels()) {
       if (channel.topic == kTickTopic) tickChannel = id;
       if (channel.topic == kModelTopic) modelChannel = id;
@@ -200,7 +208,8 @@ std::string toJson(const ReplayCheck& c, int indent) {
                         {"first_mismatch_tick", c.firstMismatchTick},
                         {"complete", c.complete},
                         {"warnings", c.warnings}}
-      .dump(indent);
+      // Warnings quote the file (its software string...): not always UTF-8 (fuzz_recording).
+      .dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 }  // namespace hg::session

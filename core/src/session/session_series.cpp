@@ -208,7 +208,7 @@ std::string toJson(const SessionSeries& s) {
               {"state_names", states}, {"events", events}, {"manipulations", carried}, {"ticks", s.ticks},
               {"saturated_ticks", s.saturatedTicks}, {"faults", s.faults}, {"max_force_N", s.maxForce_N},
               {"compute_p99_us", s.computeP99_us}, {"compute_max_us", s.computeMax_us}}
-      .dump();
+      .dump(-1, ' ', false, json::error_handler_t::replace);  // names from the file: maybe not UTF-8
 }
 
 }  // namespace hg::session

@@ -9,9 +9,12 @@
 #include <Standard_ErrorHandler.hxx>
 #include <Standard_Failure.hxx>
 #include <csignal>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "hapticgrasp/geometry/occt_faults.hpp"
+#include "hapticgrasp/geometry/part_model.hpp"
 
 namespace hg::geometry {
 namespace {
@@ -37,6 +40,24 @@ TEST(OcctFaults, ASegmentationFaultBecomesAStandardFailure) {
 TEST(OcctFaults, ABusErrorBecomesAStandardFailure) {
   catchOcctFaults();
   EXPECT_THAT(faultMessage(SIGBUS), HasSubstr("SIGBUS"));
+}
+
+// A part whose BRepCheck faults at address 0 (fuzz_brep; the input is in its corpus). The
+// fault was caught in PartModel::load, past the checks' frames: their future was lost and,
+// with `parallel`, the crossing search went on reading a shape whose frame was gone. Now
+// each check catches its own: the part is refused with one line, in either mode.
+TEST(OcctFaults, AFaultInThePartChecksIsCaughtByTheChecks) {
+  catchOcctFaults();
+  std::ifstream in(std::string(HG_TEST_DATA_DIR) + "/../fuzz/corpus/brep/leak_fault_in_checks.brep");
+  std::stringstream text;
+  text << in.rdbuf();
+  ASSERT_FALSE(text.str().empty());
+  for (const bool parallel : {false, true}) {
+    SCOPED_TRACE(parallel ? "parallel" : "one thread");
+    PartLoadOptions options;
+    options.parallel = parallel;
+    EXPECT_THROW(PartModel::fromBrepText(text.str(), LengthUnit::Millimetre, "fault", options), GeometryError);
+  }
 }
 
 void onInterrupt(int) {}

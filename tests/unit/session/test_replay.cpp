@@ -52,6 +52,13 @@ void expectIdentical(const ReplayCheck& c) {
   EXPECT_TRUE(c.complete);
 }
 
+// A recording whose description the servo loop refuses (its watchdog ramp out of range):
+// a SessionError, as documented, not the loop's std::invalid_argument (fuzz_recording).
+TEST(Replay, ADescriptionTheLoopRefusesIsASessionError) {
+  EXPECT_THROW(replay(std::string(HG_TEST_DATA_DIR) + "/../fuzz/corpus/recording/crash_bad_watchdog_ramp.mcap"),
+               SessionError);
+}
+
 TEST(Replay, TwoFingerSessionIsBitIdentical) {
   const std::string file = recordBench("two.mcap", "two-finger", 2, "cylinder");
   bool lifted = false;
