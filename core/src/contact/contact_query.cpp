@@ -1,0 +1,209 @@
+#include "hapticgrasp/contact/contact_query.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace hg::contact {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+// The angle of the rotation that takes `from` to `to`, radians.
+double angleBetween(const Mat3& from, const Mat3& to) noexcept {
+  const double c = 0.5 * ((to * from.transpose()).trace() - 1);
+  return std::acos(std::clamp(c, -1.0, 1.0));
+}
+
+}  // namespace
+
+ContactQuery::ContactQuery(ContactModelPtr held, const ContactQueryConfig& config)
+    : held_(std::move(held)), config_(config) {
+  if (!held_) throw std::invalid_argument("contact query: no carried part");
+  if (config.maxPoints <= 0 || config.maxNearby <= 0 || config.maxContacts <= 0)
+    throw std::invalid_argument("contact query: capacities must be positive");
+  if (held_->shell().size() > static_cast<std::size_t>(config.maxPoints))
+    throw std::invalid_argument("contact query: the carried part's shell exceeds maxPoints");
+  pairs_.resize(config.maxNearby);
+  for (Pair& p : pairs_) {
+    p.held.resize(held_->shell().size());
+    p.other.resize(config.maxPoints);
+  }
+  nearby_.resize(config.maxNearby);
+  contacts_.resize(config.maxContacts);
+}
+
+void ContactQuery::reset() noexcept {
+  for (Pair& p : pairs_) p.part = -1;
+  havePose_ = false;
+}
+
+ContactQuery::Pair* ContactQuery::pairFor(int part, const ContactScene& scene) noexcept {
+  for (Pair& p : pairs_)
+    if (p.part == part) {
+      if (p.revision == scene.revision()) return &p;
+      break;  // the scene moved some part: start this pair afresh
+    }
+  // A pair whose part is no longer near (or this part's own stale one).
+  for (Pair& p : pairs_) {
+    const bool stillNear = std::find(nearby_.begin(), nearby_.end(), p.part) != nearby_.end();
+    if (p.part == part || p.part < 0 || !stillNear) {
+      const std::size_t edges = scene.body(part).model->sharpEdges().size();
+      if (edges > p.other.size()) return nullptr;  // larger than its capacity: counted as overflow
+      p.part = part;
+      p.revision = scene.revision();
+      p.cursor = 0;
+      for (PointCache& c : p.held) c = PointCache{};
+      for (std::size_t k = 0; k < edges; ++k) p.other[k] = PointCache{};
+      return &p;
+    }
+  }
+  return nullptr;
+}
+
+// The clearance so far: the smallest gap among the near points answered.
+void ContactQuery::offer(const Contact& c, const Vec3& otherPoint) noexcept {
+  if (!clearance_.exact || c.gap < clearance_.distance_m)
+    clearance_ = {c.gap, c.part, c.heldFace, c.otherFace, c.point, otherPoint, true};
+}
+
+// Answers one side of a pair: each point's bound, tangent plane or exact query.
+void ContactQuery::answer(const Side& side, Pair& pair, double range, double margin) noexcept {
+  const geometry::PenetrationModel& penetration = side.queried->penetration();
+  const geometry::Aabb box = side.queried->bounds();
+  const std::size_t n = side.points.size();
+  const double edgeReach =
+      side.heldPoints
+          ? 0.0
+          : (side.queriedPose->pointToAbsolute(side.queried->centre()) - lastPose_.pointToAbsolute(held_->centre()))
+                    .norm() +
+                held_->radius() + range;
+  const std::size_t start = pair.cursor % std::max<std::size_t>(n, 1);
+  for (std::size_t step = 0; step < n; ++step) {
+    const std::size_t k = (start + step) % n;
+    const ShellPoint& point = side.points[k];
+    PointCache& c = side.cache[k];
+    c.drift += shift_ + turn_ * (side.heldPoints ? point.reach : edgeReach);
+    if (c.gap - c.drift > range) {
+      farBound_ = std::min(farBound_, c.gap - c.drift);
+      continue;  // far: nothing to do
+    }
+    const Vec3 x = side.rotation * point.position + side.translation;  // in the queried part's frame
+    const bool stale = !c.plane || c.drift > config_.requery_m;
+    const bool mustQuery = !c.plane || c.drift > config_.maxPredict_m;
+    if (stale && (mustQuery || budget_ > 0)) {
+      const double boxDistance = std::sqrt(box.squaredDistance(x));
+      if (boxDistance > range) {  // its box says far enough: no exact query
+        c.gap = boxDistance;
+        c.drift = 0;
+        c.plane = false;
+        farBound_ = std::min(farBound_, boxDistance);
+        continue;
+      }
+      if (!mustQuery) --budget_;
+      const geometry::Penetration q = penetration.query(x, c.state);
+      ++stats_.queried;
+      c.gap = -q.depth;
+      c.drift = 0;
+      c.foot = q.foot;
+      c.normal = q.normal;
+      c.face = q.feature == geometry::Feature::Face ? q.featureIndex : 0;
+      c.plane = q.normal.allFinite() && q.normal.squaredNorm() > 0.5;
+      if (!c.plane) continue;
+      if (c.gap > range) {  // exact, and far
+        farBound_ = std::min(farBound_, c.gap);
+        continue;
+      }
+    } else {
+      if (stale) ++stats_.deferred;
+      ++stats_.predicted;
+    }
+    const double gap = c.normal.dot(x - c.foot);  // the tangent plane of the last foot
+    Contact contact;
+    contact.gap = gap;
+    contact.part = pair.part;
+    contact.key = static_cast<int>(((&pair - pairs_.data()) * 2 + (side.heldPoints ? 0 : 1)) * config_.maxPoints + k);
+    const grasp::PartPose& queriedPose = *side.queriedPose;
+    Vec3 otherPoint;
+    if (side.heldPoints) {
+      contact.point = queriedPose.pointToAbsolute(x);
+      contact.normal = queriedPose.vectorToAbsolute(c.normal);
+      contact.heldFace = point.face;
+      contact.otherFace = c.face;
+      otherPoint = contact.point - gap * contact.normal;
+    } else {
+      // The other part's edge point x, against the carried part (queried): the carried
+      // part's material point is the foot on its surface, and it must move away from x.
+      contact.point = queriedPose.pointToAbsolute(x - gap * c.normal);
+      contact.normal = -queriedPose.vectorToAbsolute(c.normal);
+      contact.heldFace = c.face;
+      contact.otherFace = point.face;
+      contact.otherEdge = true;
+      otherPoint = queriedPose.pointToAbsolute(x);
+    }
+    offer(contact, otherPoint);
+    if (gap >= margin) continue;
+    ++stats_.contacts;
+    if (contactCount_ < contacts_.size()) {
+      contacts_[contactCount_++] = contact;
+      if (contactCount_ == contacts_.size())
+        worst_ = std::max_element(contacts_.begin(), contacts_.end(),
+                                  [](const Contact& a, const Contact& b) { return a.gap < b.gap; }) -
+                 contacts_.begin();
+    } else if (gap < contacts_[worst_].gap) {  // full: keep the smallest gaps
+      contacts_[worst_] = contact;
+      worst_ = std::max_element(contacts_.begin(), contacts_.end(),
+                                [](const Contact& a, const Contact& b) { return a.gap < b.gap; }) -
+               contacts_.begin();
+    }
+  }
+  pair.cursor = start + 1;
+}
+
+std::span<const Contact> ContactQuery::run(const grasp::PartPose& pose, const ContactScene& scene, int held,
+                                           double margin_m) noexcept {
+  stats_ = {};
+  contactCount_ = 0;
+  clearance_ = {};
+  farBound_ = kInfinity;
+  shift_ = havePose_ ? (pose.pointToAbsolute(held_->centre()) - lastPose_.pointToAbsolute(held_->centre())).norm()
+                     : kInfinity;
+  turn_ = havePose_ ? angleBetween(lastPose_.rotation, pose.rotation) : kInfinity;
+  if (!havePose_) {
+    for (Pair& p : pairs_) p.part = -1;
+    shift_ = turn_ = 0;  // every pair starts afresh
+  }
+  lastPose_ = pose;
+  havePose_ = true;
+  const double range = std::max(margin_m, config_.clearanceRange_m);
+
+  const geometry::Aabb box = pose.absoluteBounds(held_->bounds()).inflated(range);
+  const std::size_t total = scene.nearby(box, held, nearby_);
+  const std::size_t count = std::min(total, nearby_.size());
+  for (std::size_t k = count; k < nearby_.size(); ++k) nearby_[k] = -1;
+  stats_.nearby = static_cast<int>(total);
+  stats_.overflow = static_cast<int>(total - count);
+  for (std::size_t k = 0; k < count; ++k) {
+    Pair* pair = pairFor(nearby_[k], scene);
+    if (!pair) {
+      ++stats_.overflow;
+      continue;
+    }
+    const ContactBody& other = scene.body(pair->part);
+    budget_ = config_.queryBudget;
+    // The carried part's shell in the other's frame: x_o = R_o^T (R_h p + t_h - t_o).
+    const Mat3 heldToOther = other.pose.rotation.transpose() * pose.rotation;
+    const Vec3 heldShift = other.pose.rotation.transpose() * (pose.position - other.pose.position);
+    answer({held_->shell(), pair->held, heldToOther, heldShift, other.model.get(), &other.pose, true}, *pair, range,
+           margin_m);
+    const std::span<const ShellPoint> edges = other.model->sharpEdges();
+    answer({edges, std::span<PointCache>(pair->other.data(), edges.size()), heldToOther.transpose(),
+            -heldToOther.transpose() * heldShift, held_.get(), &pose, false},
+           *pair, range, margin_m);
+  }
+  if (!clearance_.exact) clearance_.distance_m = farBound_;  // no point near: a bound only
+  return {contacts_.data(), contactCount_};
+}
+
+}  // namespace hg::contact
