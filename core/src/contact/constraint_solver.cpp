@@ -72,7 +72,7 @@ const ConstraintSolution& ConstraintSolver::solve(const Vec6& target, std::span<
         tangent.lambda = lambdaT;
       }
     }
-    if (change < 1e-9) break;
+    if (change < 1e-5) break;  // N: a hundredth of a gram's weight
   }
   ++solves_;
   for (std::size_t j = 0; j < m; ++j) {

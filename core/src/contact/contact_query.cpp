@@ -120,6 +120,7 @@ void ContactQuery::answer(const Side& side, Pair& pair, double range, double mar
       ++stats_.predicted;
     }
     const double gap = c.normal.dot(x - c.foot);  // the tangent plane of the last foot
+    if (gap >= margin && clearance_.exact && gap >= clearance_.distance_m) continue;  // neither a row nor the nearest
     Contact contact;
     contact.gap = gap;
     contact.part = pair.part;

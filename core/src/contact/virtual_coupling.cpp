@@ -30,7 +30,12 @@ bool clampNorm(Vec3& v, double limit) noexcept {
 
 VirtualCoupling::VirtualCoupling(ContactModelPtr held, const CouplingParameters& parameters,
                                  const ContactQueryConfig& query)
-    : held_(held), parameters_(parameters), query_(held, query), solver_(query.maxContacts, query_.keyCount()) {
+    : held_(held),
+      parameters_(parameters),
+      query_(held, query),
+      solver_(query.maxContacts, query_.keyCount()),
+      near_(query.maxContacts),
+      rows_(query.maxContacts) {
   if (!(parameters.stiffness.translational_N_m > 0) || !(parameters.stiffness.rotational_Nm_rad > 0) ||
       !(parameters.margin_m > 0) || parameters.maxSubsteps < 1 || parameters.solverIterations < 1)
     throw std::invalid_argument("virtual coupling: stiffness, margin, sub-steps and iterations must be positive");
@@ -58,17 +63,35 @@ bool VirtualCoupling::substep(const grasp::PartPose& hand, const ContactScene& s
 
   const std::span<const Contact> contacts = query_.run(pose_, scene, held, parameters_.margin_m);
   out_.queried += query_.stats().queried;
-  for (const Contact& k : contacts) out_.penetration_m = std::max(out_.penetration_m, -k.gap);
-  const ConstraintSolution& s = solver_.solve(scale * target, contacts, c, parameters_.stiffness, parameters_.friction,
-                                              parameters_.solverIterations);
+  double deepest = 0;
+  for (const Contact& k : contacts) deepest = std::max(deepest, -k.gap);
+  out_.penetration_m = std::max(out_.penetration_m, deepest);
+  // Only the contacts this sub-step can close are rows: a point farther than the part is
+  // allowed to move (twice what it is asked to, plus the push-out) cannot be reached. At a
+  // hand's usual speeds that is tens of micrometres, not the whole margin. Of those, the
+  // ones that decide a rigid motion (contact_reduction.hpp).
+  const double allowed = std::min(parameters_.margin_m, 2 * scale * move + deepest + parameters_.rowSlack_m);
+  std::size_t near = 0;
+  for (const Contact& k : contacts)
+    if (k.gap < allowed) near_[near++] = k;
+  std::size_t n = reduction_.reduce(std::span<const Contact>(near_.data(), near), rows_);
+  if (n > static_cast<std::size_t>(parameters_.maxRows)) {  // the closest ones
+    std::nth_element(rows_.begin(), rows_.begin() + parameters_.maxRows, rows_.begin() + n,
+                     [](const Contact& a, const Contact& b) { return a.gap < b.gap; });
+    n = parameters_.maxRows;
+  }
+  const ConstraintSolution& s =
+      solver_.solve(scale * target, std::span<const Contact>(rows_.data(), n), c, parameters_.stiffness,
+                    parameters_.friction, parameters_.solverIterations);
   Vec6 dq = s.displacement;
-  // The contacts may push a part out by more than it was asked to move: still one margin.
+  // The contacts may push a part out by more than it was asked to move: still within what
+  // the rows cover.
   const double moved = dq.head<3>().norm() + dq.tail<3>().norm() * reach;
-  if (moved > parameters_.margin_m) dq *= parameters_.margin_m / moved;
+  if (moved > allowed) dq *= allowed / moved;
   // Renormalised through a quaternion: thousands of small turns a second must not skew it.
   pose_.rotation = Quat(rotationOf(dq.tail<3>()) * pose_.rotation).normalized().toRotationMatrix();
   pose_.position = (c + dq.head<3>()) - pose_.rotation * centre;
-  out_.contacts = static_cast<int>(contacts.size());
+  out_.contacts = static_cast<int>(n);
   out_.active = s.active;
   out_.contactForce_N = s.force_N;
   out_.clearance = query_.clearance();

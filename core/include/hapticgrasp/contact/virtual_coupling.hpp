@@ -22,9 +22,11 @@
 //
 // step() runs on the servo thread: no allocation, no lock, no throw.
 #include <span>
+#include <vector>
 
 #include "hapticgrasp/contact/constraint_solver.hpp"
 #include "hapticgrasp/contact/contact_query.hpp"
+#include "hapticgrasp/contact/contact_reduction.hpp"
 #include "hapticgrasp/servo/passivity.hpp"
 
 namespace hg::contact {
@@ -37,7 +39,9 @@ struct CouplingParameters {
   double margin_m = 2.5e-4;  // the largest move of any point in one sub-step
   int maxSubsteps = 8;
   int solverIterations = 40;
-  double maxForce_N = 40;  // the device's limits: the displayed wrench saturates
+  double rowSlack_m = 1e-5;  // rows: contacts within twice the sub-step's move plus this
+  int maxRows = 128;         // after reduction, the closest ones when more
+  double maxForce_N = 40;    // the device's limits: the displayed wrench saturates
   double maxTorque_Nm = 4;
   bool passivityController = true;  // damp the port when its observed energy goes negative
   double maxPassivityDamping_Ns_m = 200;
@@ -84,7 +88,9 @@ class VirtualCoupling {
   CouplingParameters parameters_;
   ContactQuery query_;
   ConstraintSolver solver_;
-  grasp::PartPose pose_;  // constrained
+  ContactReduction reduction_;
+  std::vector<Contact> near_, rows_;  // this sub-step's reachable contacts and rows (preallocated)
+  grasp::PartPose pose_;              // constrained
   grasp::PartPose previousPose_, previousHand_;
   bool havePrevious_ = false;
   servo::PassivityPort port_;
