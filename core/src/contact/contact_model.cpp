@@ -196,6 +196,21 @@ ContactModelPtr ContactModel::build(geometry::PartModelPtr part, geometry::Penet
       model->points_.push_back({q.foot, q.normal.normalized(), 0, face, 0});
     }
   }
+  // Hundreds of small faces and short edges: their minimum counts alone exceed the budget.
+  // Thinned evenly (edges and faces alike, order kept) so that the budget holds.
+  if (model->points_.size() > static_cast<std::size_t>(options.maxPoints)) {
+    std::vector<ShellPoint> kept;
+    kept.reserve(options.maxPoints);
+    std::size_t edgesKept = 0;
+    const double stride = static_cast<double>(model->points_.size()) / options.maxPoints;
+    for (int i = 0; i < options.maxPoints; ++i) {
+      const auto k = static_cast<std::size_t>(i * stride);
+      kept.push_back(model->points_[k]);
+      if (k < model->edgePoints_) ++edgesKept;
+    }
+    model->points_ = std::move(kept);
+    model->edgePoints_ = edgesKept;
+  }
   for (ShellPoint& p : model->points_) {
     p.reach = (p.position - model->centre_).norm();
     model->radius_ = std::max(model->radius_, p.reach);

@@ -27,8 +27,10 @@ ContactQuery::ContactQuery(ContactModelPtr held, const ContactQueryConfig& confi
     throw std::invalid_argument("contact query: the carried part's shell exceeds maxPoints");
   pairs_.resize(config.maxNearby);
   for (Pair& p : pairs_) {
-    p.held.resize(held_->shell().size());
-    p.other.resize(config.maxPoints);
+    p.held.bound.resize(held_->shell().size());
+    p.held.answer.resize(held_->shell().size());
+    p.other.bound.resize(config.maxPoints);
+    p.other.answer.resize(config.maxPoints);
   }
   nearby_.resize(config.maxNearby);
   contacts_.resize(config.maxContacts);
@@ -50,12 +52,17 @@ ContactQuery::Pair* ContactQuery::pairFor(int part, const ContactScene& scene) n
     const bool stillNear = std::find(nearby_.begin(), nearby_.end(), p.part) != nearby_.end();
     if (p.part == part || p.part < 0 || !stillNear) {
       const std::size_t edges = scene.body(part).model->sharpEdges().size();
-      if (edges > p.other.size()) return nullptr;  // larger than its capacity: counted as overflow
+      if (edges > p.other.bound.size()) return nullptr;  // larger than its capacity: counted as overflow
       p.part = part;
       p.revision = scene.revision();
       p.cursor = 0;
-      for (PointCache& c : p.held) c = PointCache{};
-      for (std::size_t k = 0; k < edges; ++k) p.other[k] = PointCache{};
+      p.moved = p.turned = 0;
+      for (SideCache* side : {&p.held, &p.other}) {
+        std::fill(side->bound.begin(), side->bound.end(), PointBound{});
+        for (PointAnswer& a : side->answer) a.plane = false, a.state.reset();
+        side->minLower = -std::numeric_limits<double>::infinity();
+        side->passMoved = side->passTurned = 0;
+      }
       return &p;
     }
   }
@@ -68,56 +75,59 @@ void ContactQuery::offer(const Contact& c, const Vec3& otherPoint) noexcept {
     clearance_ = {c.gap, c.part, c.heldFace, c.otherFace, c.point, otherPoint, true};
 }
 
-// Answers one side of a pair: each point's bound, tangent plane or exact query.
+// Answers one side of a pair: each point's bound, tangent plane or exact query; the whole
+// side at once while its smallest bound keeps it beyond range.
 void ContactQuery::answer(const Side& side, Pair& pair, double range, double margin) noexcept {
+  SideCache& cache = *side.cache;
+  const double maxReach = side.heldPoints ? held_->radius() : side.reach;
+  const double lowerAll = cache.minLower - (pair.moved - cache.passMoved) - (pair.turned - cache.passTurned) * maxReach;
+  if (lowerAll > range) {
+    farBound_ = std::min(farBound_, lowerAll);
+    return;
+  }
   const geometry::PenetrationModel& penetration = side.queried->penetration();
   const geometry::Aabb box = side.queried->bounds();
   const std::size_t n = side.points.size();
-  const double edgeReach =
-      side.heldPoints
-          ? 0.0
-          : (side.queriedPose->pointToAbsolute(side.queried->centre()) - lastPose_.pointToAbsolute(held_->centre()))
-                    .norm() +
-                held_->radius() + range;
+  double minLower = std::numeric_limits<double>::infinity();
   const std::size_t start = pair.cursor % std::max<std::size_t>(n, 1);
   for (std::size_t step = 0; step < n; ++step) {
     const std::size_t k = (start + step) % n;
     const ShellPoint& point = side.points[k];
-    PointCache& c = side.cache[k];
-    c.drift += shift_ + turn_ * (side.heldPoints ? point.reach : edgeReach);
-    if (c.gap - c.drift > range) {
-      farBound_ = std::min(farBound_, c.gap - c.drift);
+    PointBound& b = cache.bound[k];
+    const double drift =
+        (pair.moved - b.moved0) + (pair.turned - b.turned0) * (side.heldPoints ? point.reach : side.reach);
+    if (b.gap - drift > range) {
+      minLower = std::min(minLower, b.gap - drift);
       continue;  // far: nothing to do
     }
+    PointAnswer& c = cache.answer[k];
     const Vec3 x = side.rotation * point.position + side.translation;  // in the queried part's frame
-    const bool stale = !c.plane || c.drift > config_.requery_m;
-    const bool mustQuery = !c.plane || c.drift > config_.maxPredict_m;
+    const bool stale = !c.plane || drift > config_.requery_m;
+    const bool mustQuery = !c.plane || drift > config_.maxPredict_m;
     if (stale && (mustQuery || budget_ > 0)) {
+      b.moved0 = pair.moved;
+      b.turned0 = pair.turned;
       const double boxDistance = std::sqrt(box.squaredDistance(x));
       if (boxDistance > range) {  // its box says far enough: no exact query
-        c.gap = boxDistance;
-        c.drift = 0;
+        b.gap = boxDistance;
         c.plane = false;
-        farBound_ = std::min(farBound_, boxDistance);
+        minLower = std::min(minLower, boxDistance);
         continue;
       }
       if (!mustQuery) --budget_;
       const geometry::Penetration q = penetration.query(x, c.state);
       ++stats_.queried;
-      c.gap = -q.depth;
-      c.drift = 0;
+      b.gap = -q.depth;
       c.foot = q.foot;
       c.normal = q.normal;
       c.face = q.feature == geometry::Feature::Face ? q.featureIndex : 0;
       c.plane = q.normal.allFinite() && q.normal.squaredNorm() > 0.5;
-      if (!c.plane) continue;
-      if (c.gap > range) {  // exact, and far
-        farBound_ = std::min(farBound_, c.gap);
-        continue;
-      }
+      minLower = std::min(minLower, b.gap);
+      if (!c.plane || b.gap > range) continue;  // exact, and far
     } else {
       if (stale) ++stats_.deferred;
       ++stats_.predicted;
+      minLower = std::min(minLower, b.gap - drift);
     }
     const double gap = c.normal.dot(x - c.foot);  // the tangent plane of the last foot
     if (gap >= margin && clearance_.exact && gap >= clearance_.distance_m) continue;  // neither a row nor the nearest
@@ -160,6 +170,10 @@ void ContactQuery::answer(const Side& side, Pair& pair, double range, double mar
     }
   }
   pair.cursor = start + 1;
+  cache.minLower = minLower;
+  cache.passMoved = pair.moved;
+  cache.passTurned = pair.turned;
+  farBound_ = std::min(farBound_, minLower);
 }
 
 std::span<const Contact> ContactQuery::run(const grasp::PartPose& pose, const ContactScene& scene, int held,
@@ -177,6 +191,10 @@ std::span<const Contact> ContactQuery::run(const grasp::PartPose& pose, const Co
   }
   lastPose_ = pose;
   havePose_ = true;
+  for (Pair& p : pairs_) {  // every pair counts the motion, near this run or not
+    p.moved += shift_;
+    p.turned += turn_;
+  }
   const double range = std::max(margin_m, config_.clearanceRange_m);
 
   const geometry::Aabb box = pose.absoluteBounds(held_->bounds()).inflated(range);
@@ -196,11 +214,15 @@ std::span<const Contact> ContactQuery::run(const grasp::PartPose& pose, const Co
     // The carried part's shell in the other's frame: x_o = R_o^T (R_h p + t_h - t_o).
     const Mat3 heldToOther = other.pose.rotation.transpose() * pose.rotation;
     const Vec3 heldShift = other.pose.rotation.transpose() * (pose.position - other.pose.position);
-    answer({held_->shell(), pair->held, heldToOther, heldShift, other.model.get(), &other.pose, true}, *pair, range,
-           margin_m);
-    const std::span<const ShellPoint> edges = other.model->sharpEdges();
-    answer({edges, std::span<PointCache>(pair->other.data(), edges.size()), heldToOther.transpose(),
-            -heldToOther.transpose() * heldShift, held_.get(), &pose, false},
+    answer({held_->shell(), &pair->held, heldToOther, heldShift, other.model.get(), &other.pose, true, 0.0}, *pair,
+           range, margin_m);
+    // The other's edge points, in the carried part's frame, turn with it about its centre:
+    // by at most their distance from it, bounded by the two parts' centres and sizes.
+    const double edgeReach =
+        (other.pose.pointToAbsolute(other.model->centre()) - pose.pointToAbsolute(held_->centre())).norm() +
+        other.model->radius() + range;
+    answer({other.model->sharpEdges(), &pair->other, heldToOther.transpose(), -heldToOther.transpose() * heldShift,
+            held_.get(), &pose, false, edgeReach},
            *pair, range, margin_m);
   }
   if (!clearance_.exact) clearance_.distance_m = farBound_;  // no point near: a bound only

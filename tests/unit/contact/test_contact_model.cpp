@@ -71,6 +71,21 @@ TEST(ContactModel, AHolesConcaveEdgesAreLeftOutAndSmallFacesKept) {
   }
 }
 
+TEST(ContactModel, KeepsToItsBudgetWhenSmallFeaturesAloneExceedIt) {
+  // 64 holes: 64 cylinder faces and 128 sharp rims, each with its minimum of points.
+  TopoDS_Shape plate = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 80, 80, 2).Shape();
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 8; ++j)
+      plate = BRepAlgoAPI_Cut(
+                  plate,
+                  BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(5 + 10 * i, 5 + 10 * j, -1), gp_Dir(0, 0, 1)), 1, 4).Shape())
+                  .Shape();
+  const ContactModelPtr model = test::contactModelOf(plate, "perforated", 200);
+  EXPECT_EQ(model->shell().size(), 200u);
+  EXPECT_GT(model->sharpEdges().size(), 0u);
+  EXPECT_LT(model->sharpEdges().size(), 200u);
+}
+
 TEST(ContactModel, RefusesWhatItCannotModel) {
   const ContactModelPtr peg = test::pegModel();
   EXPECT_THROW(ContactModel::build(nullptr, nullptr), std::invalid_argument);

@@ -43,7 +43,8 @@ class ContactModel {
   // Samples the part's faces (area-weighted, at least one point a face, so that small
   // features are never left out) and its sharp convex edges (at least two points an edge:
   // its ends, the part's corners), at one spacing h chosen so that the whole shell fits
-  // options.maxPoints (faces: area / h^2 points, edges: edgeDensity * length / h).
+  // options.maxPoints (faces: area / h^2 points, edges: edgeDensity * length / h). When
+  // those minimums alone exceed the budget, the shell is thinned evenly to it.
   // `penetration` answers other parts' points against this one and must be real-time safe.
   // Throws std::invalid_argument for a missing part or back end, or a budget below 8.
   static ContactModelPtr build(geometry::PartModelPtr part, geometry::PenetrationModelPtr penetration,

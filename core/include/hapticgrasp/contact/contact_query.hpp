@@ -92,34 +92,49 @@ class ContactQuery {
   int keyCount() const noexcept { return 2 * config_.maxNearby * config_.maxPoints; }
 
  private:
-  // What one point knows about the other part of its pair: its last exact answer, in the
-  // frame it is queried in (the other part's for the carried part's points, the carried
-  // part's for the other's edge points), and how far it has drifted since.
-  struct PointCache {
-    double gap = -std::numeric_limits<double>::infinity();  // exact gap, or a lower bound (!plane)
-    double drift = std::numeric_limits<double>::infinity();
+  // What one point knows about the other part of its pair, split hot from cold so that a
+  // pass over far points touches 24 bytes a point. Its last exact gap (or a lower bound,
+  // !plane) and the pair's accumulated motion then: its drift since is
+  // (moved - moved0) + (turned - turned0) reach, counted without visiting it.
+  struct PointBound {
+    double gap = -std::numeric_limits<double>::infinity();
+    double moved0 = 0, turned0 = 0;
+  };
+  // The rest of its last answer, in the frame it is queried in (the other part's for the
+  // carried part's points, the carried part's for the other's edge points).
+  struct PointAnswer {
     Vec3 foot = Vec3::Zero(), normal = Vec3::Zero();
     int face = 0;
     bool plane = false;  // foot and normal hold
     geometry::QueryState state;
   };
+  // One side of a pair's cache, and the smallest lower bound of its points at its last
+  // pass: while that, less the motion since, stays beyond range, the side is skipped whole.
+  struct SideCache {
+    std::vector<PointBound> bound;
+    std::vector<PointAnswer> answer;
+    double minLower = -std::numeric_limits<double>::infinity();
+    double passMoved = 0, passTurned = 0;
+  };
   // One nearby part: the cache of the carried part's shell against it, and of its sharp
   // edges against the carried part.
   struct Pair {
     int part = -1;
-    std::uint64_t revision = 0;  // the scene's revision it was filled at
-    std::vector<PointCache> held, other;
+    std::uint64_t revision = 0;    // the scene's revision it was filled at
+    double moved = 0, turned = 0;  // the carried part's motion since the pair began: sum |Δc|, sum |Δθ|
+    SideCache held, other;
     std::size_t cursor = 0;  // where the budgeted re-queries start next run
   };
   // One side of a pair: the points, the frame change into the queried part, and that part.
   struct Side {
     std::span<const ShellPoint> points;
-    std::span<PointCache> cache;
+    SideCache* cache;
     Mat3 rotation;  // points' frame -> queried part's frame
     Vec3 translation;
     const ContactModel* queried;
     const grasp::PartPose* queriedPose;  // world pose of the queried part
     bool heldPoints;                     // the carried part's shell (else the other's edges)
+    double reach;                        // the other's edges: their largest distance from the carried part's centre
   };
   Pair* pairFor(int part, const ContactScene& scene) noexcept;
   void answer(const Side& side, Pair& pair, double range, double margin) noexcept;
