@@ -42,31 +42,33 @@ void ContactQuery::reset() noexcept {
 }
 
 ContactQuery::Pair* ContactQuery::pairFor(int part, const ContactScene& scene) noexcept {
+  Pair* pair = nullptr;
   for (Pair& p : pairs_)
     if (p.part == part) {
-      if (p.revision == scene.revision()) return &p;
-      break;  // the scene moved some part: start this pair afresh
+      if (p.revision == scene.revision(part)) return &p;
+      pair = &p;  // the part was moved: start its pair afresh
+      break;
     }
-  // A pair whose part is no longer near (or this part's own stale one).
+  // Else a pair whose part is no longer near.
   for (Pair& p : pairs_) {
-    const bool stillNear = std::find(nearby_.begin(), nearby_.end(), p.part) != nearby_.end();
-    if (p.part == part || p.part < 0 || !stillNear) {
-      const std::size_t edges = scene.body(part).model->sharpEdges().size();
-      if (edges > p.other.bound.size()) return nullptr;  // larger than its capacity: counted as overflow
-      p.part = part;
-      p.revision = scene.revision();
-      p.cursor = 0;
-      p.moved = p.turned = 0;
-      for (SideCache* side : {&p.held, &p.other}) {
-        std::fill(side->bound.begin(), side->bound.end(), PointBound{});
-        for (PointAnswer& a : side->answer) a.plane = false, a.state.reset();
-        side->minLower = -std::numeric_limits<double>::infinity();
-        side->passMoved = side->passTurned = 0;
-      }
-      return &p;
-    }
+    if (pair) break;
+    if (p.part < 0 || std::find(nearby_.begin(), nearby_.end(), p.part) == nearby_.end()) pair = &p;
   }
-  return nullptr;
+  if (!pair) return nullptr;
+  const std::size_t edges = scene.body(part).model->sharpEdges().size();
+  if (edges > pair->other.bound.size()) return nullptr;  // larger than its capacity: counted as overflow
+  Pair& p = *pair;
+  p.part = part;
+  p.revision = scene.revision(part);
+  p.cursor = 0;
+  p.moved = p.turned = 0;
+  for (SideCache* side : {&p.held, &p.other}) {
+    std::fill(side->bound.begin(), side->bound.end(), PointBound{});
+    for (PointAnswer& a : side->answer) a.plane = false, a.state.reset();
+    side->minLower = -std::numeric_limits<double>::infinity();
+    side->passMoved = side->passTurned = 0;
+  }
+  return &p;
 }
 
 // The clearance so far: the smallest gap among the near points answered.

@@ -17,12 +17,12 @@ std::vector<geometry::Aabb> worldBoxes(const std::vector<ContactBody>& bodies) {
 }  // namespace
 
 ContactScene::ContactScene(std::vector<ContactBody> bodies)
-    : bodies_(std::move(bodies)), broadPhase_(worldBoxes(bodies_)) {}
+    : bodies_(std::move(bodies)), broadPhase_(worldBoxes(bodies_)), revisions_(bodies_.size(), 0) {}
 
 void ContactScene::setPose(std::size_t i, const grasp::PartPose& pose) noexcept {
   bodies_[i].pose = pose;
   broadPhase_.update(i, pose.absoluteBounds(bodies_[i].model->bounds()));
-  ++revision_;
+  ++revisions_[i];
 }
 
 std::size_t ContactScene::nearby(const geometry::Aabb& box, int exclude, std::span<int> out) const noexcept {

@@ -107,6 +107,16 @@ TEST(ContactQuery, SaysTheClearanceWithinRangeAndABoundBeyondIt) {
   EXPECT_LE(cube.clearance().distance_m, 5.05e-3 - 2e-3 * std::numbers::sqrt2 + 1e-9);
 }
 
+TEST(ContactQuery, APartPutDownElsewhereIsAnsweredWhereItIsNow) {
+  ContactScene scene = floorScene();
+  ContactQuery query(test::boxModel(-5, -5, 0, 10, 10, 10, 400));
+  const grasp::PartPose at = test::poseAt(Vec3(0, 0, 1e-4));
+  EXPECT_NEAR(smallestGap(query.run(at, scene, -1, kMargin)), 1e-4, 1e-9);
+  scene.setPose(0, test::poseAt(Vec3(0, 0, 2e-4)));  // the floor raised 0.2 mm under it
+  EXPECT_NEAR(smallestGap(query.run(at, scene, -1, kMargin)), -1e-4, 1e-9);
+  EXPECT_NEAR(query.clearance().distance_m, -1e-4, 1e-9);  // in interference, by that much
+}
+
 TEST(ContactQuery, AtRestQueriesNothingAgainAndAllocatesNothing) {
   const ContactScene scene = floorScene();
   ContactQuery query(test::boxModel(-5, -5, 0, 10, 10, 10, 400));

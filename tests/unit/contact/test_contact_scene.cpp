@@ -26,11 +26,12 @@ TEST(ContactScene, FindsThePartsABoxOverlapsButTheCarriedOne) {
   const geometry::Aabb around{Vec3(0.015, 0.001, 0.001), Vec3(0.045, 0.002, 0.002)};
   EXPECT_EQ(near(scene, around, -1), (std::vector<int>{1, 2}));
   EXPECT_EQ(near(scene, around, 1), (std::vector<int>{2}));
-  const std::uint64_t before = scene.revision();
+  const std::uint64_t before = scene.revision(4), other = scene.revision(1);
   const long allocations = test::allocations();
   scene.setPose(4, test::poseAt(Vec3(0.03, 0, 0)));
   EXPECT_EQ(test::allocations() - allocations, 0);
-  EXPECT_GT(scene.revision(), before);
+  EXPECT_GT(scene.revision(4), before);
+  EXPECT_EQ(scene.revision(1), other);  // a part's move leaves the others' cached answers valid
   EXPECT_EQ(near(scene, around, -1), (std::vector<int>{1, 2, 4}));
   EXPECT_THROW(ContactScene({ContactBody{}}), std::invalid_argument);
 }

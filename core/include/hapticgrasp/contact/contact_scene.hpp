@@ -4,6 +4,7 @@
 // part costs only the parts whose box its own (inflated) box overlaps, whatever the scene's
 // size. Models are shared and immutable; poses are the only thing that changes, refitted
 // in place (no allocation) when a part is put down somewhere else.
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -27,8 +28,9 @@ class ContactScene {
   const ContactBody& body(std::size_t i) const noexcept { return bodies_[i]; }
   // Part i now stands at `pose` (any thread that owns the scene; no allocation).
   void setPose(std::size_t i, const grasp::PartPose& pose) noexcept;
-  // How many times any pose changed: a cached answer about part i is stale once this moves.
-  std::uint64_t revision() const noexcept { return revision_; }
+  // How many times part i was moved: a cached answer about it is stale once this changes
+  // (the carried part's own moves, if it is one of the scene's, touch no other's).
+  std::uint64_t revision(std::size_t i) const noexcept { return revisions_[i]; }
 
   // The parts other than `exclude` whose world box overlaps `box`: the first out.size()
   // are written; returns how many there are.
@@ -37,7 +39,7 @@ class ContactScene {
  private:
   std::vector<ContactBody> bodies_;
   grasp::BroadPhase broadPhase_;
-  std::uint64_t revision_ = 0;
+  std::vector<std::uint64_t> revisions_;
 };
 
 }  // namespace hg::contact
