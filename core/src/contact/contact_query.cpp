@@ -158,17 +158,16 @@ void ContactQuery::answer(const Side& side, Pair& pair, double range, double mar
     offer(contact, otherPoint);
     if (gap >= margin) continue;
     ++stats_.contacts;
+    // Full: keep the smallest gaps, the largest kept on top of a heap (O(log n) a contact,
+    // in place: no allocation).
+    const auto byGap = [](const Contact& l, const Contact& r) { return l.gap < r.gap; };
     if (contactCount_ < contacts_.size()) {
       contacts_[contactCount_++] = contact;
-      if (contactCount_ == contacts_.size())
-        worst_ = std::max_element(contacts_.begin(), contacts_.end(),
-                                  [](const Contact& a, const Contact& b) { return a.gap < b.gap; }) -
-                 contacts_.begin();
-    } else if (gap < contacts_[worst_].gap) {  // full: keep the smallest gaps
-      contacts_[worst_] = contact;
-      worst_ = std::max_element(contacts_.begin(), contacts_.end(),
-                                [](const Contact& a, const Contact& b) { return a.gap < b.gap; }) -
-               contacts_.begin();
+      if (contactCount_ == contacts_.size()) std::make_heap(contacts_.begin(), contacts_.end(), byGap);
+    } else if (gap < contacts_.front().gap) {
+      std::pop_heap(contacts_.begin(), contacts_.end(), byGap);
+      contacts_.back() = contact;
+      std::push_heap(contacts_.begin(), contacts_.end(), byGap);
     }
   }
   pair.cursor = start + 1;

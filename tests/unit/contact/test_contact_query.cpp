@@ -117,6 +117,23 @@ TEST(ContactQuery, APartPutDownElsewhereIsAnsweredWhereItIsNow) {
   EXPECT_NEAR(query.clearance().distance_m, -1e-4, 1e-9);  // in interference, by that much
 }
 
+TEST(ContactQuery, KeepsTheSmallestGapsWhenThereAreMoreContactsThanRoom) {
+  const ContactScene scene = floorScene();
+  ContactQueryConfig config;
+  config.maxContacts = 10;
+  ContactQuery query(test::boxModel(-5, -5, 0, 10, 10, 10, 400), config);
+  // Tilted 1 deg about y: the bottom face's gaps spread from 0 to 0.17 mm along x.
+  const auto contacts = query.run(
+      test::poseAt(Vec3(0, 0, 1e-5 + 5e-3 * std::sin(std::numbers::pi / 180)), std::numbers::pi / 180, Vec3::UnitY()),
+      scene, -1, kMargin);
+  ASSERT_EQ(contacts.size(), 10u);
+  EXPECT_GT(query.stats().contacts, 10);
+  double largestKept = 0;
+  for (const Contact& c : contacts) largestKept = std::max(largestKept, c.gap);
+  EXPECT_NEAR(smallestGap(contacts), query.clearance().distance_m, 1e-12);
+  EXPECT_LT(largestKept, 5e-5);  // the low edge's, not the face's far side
+}
+
 TEST(ContactQuery, AtRestQueriesNothingAgainAndAllocatesNothing) {
   const ContactScene scene = floorScene();
   ContactQuery query(test::boxModel(-5, -5, 0, 10, 10, 10, 400));

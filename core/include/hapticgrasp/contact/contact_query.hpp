@@ -153,7 +153,6 @@ class ContactQuery {
   double shift_ = 0, turn_ = 0;  // this run's move of the carried part: |Δc| (m), |Δθ| (rad)
   int budget_ = 0;               // re-queries left for the pair being answered
   double farBound_ = 0;          // the smallest lower bound of the points not near
-  std::size_t worst_ = 0;        // the contact with the largest gap, once contacts_ is full
 };
 
 }  // namespace hg::contact
