@@ -119,4 +119,6 @@ int soak(servo::SoakOptions options, bool json) {
   return r.passed() ? 0 : 1;
 }
 
+long threadAllocations() { return servo::threadAllocations(); }
+
 }  // namespace hg::cli

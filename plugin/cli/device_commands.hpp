@@ -20,5 +20,8 @@ int benchServo(servo::ServoBenchOptions options, bool json);
 int benchScene(servo::SceneBenchOptions options, bool json);
 // hapticgrasp soak: the servo thread under injected faults for minutes (soak.hpp); 1 unless it passed.
 int soak(servo::SoakOptions options, bool json);
+// Heap allocations made so far by the calling thread (the process's malloc counter, which
+// lives in this command's one translation unit that interposes malloc).
+long threadAllocations();
 
 }  // namespace hg::cli

@@ -20,6 +20,7 @@
 #include "device_commands.hpp"
 #include "doctor.hpp"
 #include "session_commands.hpp"
+#include "peg_in_hole.hpp"
 #include "penetration_ladder.hpp"
 
 namespace {
@@ -246,6 +247,19 @@ int main(int argc, char** argv) {
                        "Leave the servo thread and the model builders to the scheduler (no CPU of its own)");
   sceneBench->add_flag("--json", json, "Print JSON");
 
+  CLI::App* contactBench = bench->add_subcommand(
+      "contact", "Part-to-part contact: a part carried onto and into two copies of itself, compute per tick");
+  cli::ContactBenchOptions contactOptions;
+  contactBench->add_option("--part", contactOptions.part, "A .step/.brep file (mm)")->required();
+  contactBench->add_option("--rate", contactOptions.rate_hz, "Servo rate, Hz")->capture_default_str()->check(
+      CLI::Range(50.0, 10000.0));
+  contactBench->add_option("--seconds", contactOptions.seconds, "How long")->capture_default_str()->check(
+      CLI::Range(0.01, 3600.0));
+  contactBench->add_option("--points", contactOptions.points, "The carried part's shell points")
+      ->capture_default_str()
+      ->check(CLI::Range(8, 2048));
+  contactBench->add_flag("--json", json, "Print JSON");
+
   // Sessions: record, recording info, replay, report.
   servo::ServoBenchOptions recordOptions;
   recordOptions.device = "scripted";
@@ -322,6 +336,11 @@ int main(int argc, char** argv) {
   shakeCmd->add_flag("--json", json, "Print JSON");
   shakeCmd->add_option("--plot", shakePlot, "Write grasping force and finger distance against time (Fig. 8) as SVG");
 
+  CLI::App* pegInHoleCmd = experiment->add_subcommand(
+      "peg-in-hole", "Part-to-part contact: a peg into a hole 0.1 mm wider, and a strike on a 0.5 mm plate at 1 m/s");
+  pegInHoleCmd->add_option("--rate", rate_hz, "Servo rate, Hz")->capture_default_str()->check(CLI::PositiveNumber);
+  pegInHoleCmd->add_flag("--json", json, "Print JSON");
+
   CLI::App* parts = app.add_subcommand("parts", "Inspect parts");
   parts->require_subcommand(1);
   std::string partName;
@@ -342,6 +361,8 @@ int main(int argc, char** argv) {
     if (info->parsed()) return partInfo(partName, serialLoad, partTimeLimit_s);
     if (graspCylinderCmd->parsed()) return graspCylinder(rate_hz, json);
     if (shakeCmd->parsed()) return shake(json, shakePlot);
+    if (pegInHoleCmd->parsed()) return cli::pegInHole(rate_hz, json);
+    if (contactBench->parsed()) return cli::benchContact(contactOptions, json);
     if (servoBench->parsed()) return cli::benchServo(servoOptions, json);
     if (sceneBench->parsed()) return cli::benchScene(sceneOptions, json);
     if (devices->parsed()) return udevRule ? cli::printUdevRule() : cli::listDevices();

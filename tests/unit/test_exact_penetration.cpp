@@ -197,6 +197,24 @@ TEST(ExactPenetration, SpecialPointsOfTheCylinder) {
   EXPECT_NEAR(p.normal.z(), 1.0, 1e-12);
 }
 
+// A point 1e-18 m on the wrong side of a cone's seam plane: its angle, a hair below 0,
+// rounded to 2 pi exactly when wrapped, and the face was lost (the rim edge answered,
+// 0.28 mm "inside"). Found by a peg entering a chamfered hole along the seam's plane.
+TEST(ExactPenetration, APointAHairOffASeamFindsItsFace) {
+  const double r = 5.05;
+  TopoDS_Shape block = BRepPrimAPI_MakeBox(gp_Pnt(-20, -20, -20), 40, 40, 20).Shape();
+  block = BRepAlgoAPI_Cut(block, BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, -25), gp_Dir(0, 0, 1)), r, 30).Shape()).Shape();
+  block = BRepAlgoAPI_Cut(block, BRepPrimAPI_MakeCone(gp_Ax2(gp_Pnt(0, 0, -0.5), gp_Dir(0, 0, 1)), r, r + 1, 1).Shape()).Shape();
+  const auto exact = geometry::makeExactPenetration(test::part(block, "chamfered hole"));
+  for (const double y : {-1.2246449339040861e-18, 0.0, 1e-18, -1e-15}) {
+    geometry::QueryState state;
+    const geometry::Penetration q = exact->query(Vec3(5.3e-3, y, -1.3e-4), state);
+    EXPECT_FALSE(q.inside) << y;
+    EXPECT_EQ(q.feature, geometry::Feature::Face) << y;
+    EXPECT_NEAR(q.depth, -0.12e-3 / std::sqrt(2.0), 1e-9) << y;  // 0.12 mm across from the 45 deg chamfer
+  }
+}
+
 TEST(ExactPenetration, CornerOfTheBoxIsAVertexFoot) {
   const auto exact = makeExactPenetration(test::boxPart());
   QueryState s;

@@ -13,6 +13,11 @@ geometry::Aabb merged(const geometry::Aabb& a, const geometry::Aabb& b) noexcept
 // A balanced tree of n leaves is at most ceil(log2 n) + 1 deep: 64 levels hold any scene.
 constexpr int kMaxDepth = 64;
 
+// Whether two boxes share a point (an empty box overlaps nothing).
+bool overlap(const geometry::Aabb& a, const geometry::Aabb& b) noexcept {
+  return !a.empty() && !b.empty() && (a.min.array() <= b.max.array()).all() && (b.min.array() <= a.max.array()).all();
+}
+
 }  // namespace
 
 BroadPhase::BroadPhase(std::span<const geometry::Aabb> boxes) {
@@ -76,6 +81,26 @@ std::size_t BroadPhase::query(const Vec3& x, std::span<int> out) const noexcept 
   while (top > 0) {
     const Node& node = nodes_[stack[--top]];
     if (!node.box.contains(x)) continue;
+    if (node.item >= 0) {
+      if (found < out.size()) out[found] = node.item;
+      ++found;
+    } else {
+      stack[top++] = node.left;
+      stack[top++] = node.right;
+    }
+  }
+  return found;
+}
+
+std::size_t BroadPhase::overlapping(const geometry::Aabb& box, std::span<int> out) const noexcept {
+  if (nodes_.empty() || box.empty()) return 0;
+  std::size_t found = 0;
+  int stack[kMaxDepth];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if (!overlap(node.box, box)) continue;
     if (node.item >= 0) {
       if (found < out.size()) out[found] = node.item;
       ++found;

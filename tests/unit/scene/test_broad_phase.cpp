@@ -109,6 +109,27 @@ TEST(BroadPhase, EmptyBoxesAndEmptySetsHoldNothing) {
   EXPECT_TRUE(ask(bp, Vec3::Constant(2)).empty());
 }
 
+TEST(BroadPhase, FindsTheBoxesABoxOverlapsAsAScanDoes) {
+  std::mt19937 rng(4);
+  std::vector<Aabb> boxes;
+  for (int i = 0; i < 500; ++i) boxes.push_back(randomBox(rng, 10.0));
+  BroadPhase bp(boxes);
+  for (int k = 0; k < 200; ++k) {
+    const Aabb box = randomBox(rng, 10.0);
+    std::vector<int> expected;
+    for (std::size_t i = 0; i < boxes.size(); ++i)
+      if ((box.min.array() <= boxes[i].max.array()).all() && (boxes[i].min.array() <= box.max.array()).all())
+        expected.push_back(static_cast<int>(i));
+    std::vector<int> out(boxes.size());
+    out.resize(bp.overlapping(box, out));
+    std::sort(out.begin(), out.end());
+    ASSERT_EQ(out, expected);
+  }
+  int one[1];
+  EXPECT_EQ(bp.overlapping(Aabb{Vec3::Constant(-20), Vec3::Constant(20)}, one), boxes.size());
+  EXPECT_EQ(bp.overlapping(Aabb{}, one), 0u);
+}
+
 TEST(BroadPhase, QueryAndUpdateAllocateNothing) {
   std::mt19937 rng(3);
   std::vector<Aabb> boxes;

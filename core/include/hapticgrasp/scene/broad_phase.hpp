@@ -34,6 +34,9 @@ class BroadPhase {
   // The items whose box contains x: the first out.size() of them are written to `out` (in
   // no particular order); returns how many there are, which may exceed out.size().
   std::size_t query(const Vec3& x, std::span<int> out) const noexcept;
+  // The items whose box overlaps `box` (a carried part's, inflated by its contact margin),
+  // written and counted as query(x) does.
+  std::size_t overlapping(const geometry::Aabb& box, std::span<int> out) const noexcept;
 
  private:
   struct Node {

@@ -25,10 +25,13 @@
 namespace hg::geometry::exact {
 namespace {
 
-// Brings t into [lo, lo + period).
+// Brings t into [lo, lo + period). A t a hair below lo (atan2 of a point 1e-18 m off a
+// seam's plane) rounds to lo + period exactly, the far seam itself, where the domain test
+// sees it beyond both seams and the face is lost: it is kept one ulp below instead.
 double wrap(double t, double lo, double period) {
   const double k = std::floor((t - lo) / period);
-  return t - k * period;
+  const double w = t - k * period;
+  return w < lo + period ? w : std::nextafter(lo + period, lo);
 }
 
 // The surface without rectangular trims (the face's own trim does the trimming), and an
