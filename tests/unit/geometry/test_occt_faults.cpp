@@ -13,13 +13,6 @@
 
 #include "hapticgrasp/geometry/occt_faults.hpp"
 
-// OCCT raises the failure a signal became from inside its handler, and that Standard_Failure
-// and its message are never freed (OCCT's code, in libTKernel): LeakSanitizer is told so
-// here, for this executable only, so a leak of ours elsewhere still fails.
-extern "C" const char* __lsan_default_suppressions() {
-  return "leak:Standard_Failure::StringRef::allocate_message\nleak:Standard_MMgrRaw::Allocate\n";
-}
-
 namespace hg::geometry {
 namespace {
 
