@@ -2,7 +2,7 @@
 BUILD ?= build
 JOBS  ?= 2
 
-.PHONY: deps build demo test bench package fuzz clean
+.PHONY: deps build demo test sanitize bench package fuzz clean
 deps:
 	packaging/install-deps
 
@@ -20,6 +20,13 @@ demo: build
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+# The unit tests under AddressSanitizer + UndefinedBehaviorSanitizer (build-asan), then the
+# threaded ones (label `threads`) under ThreadSanitizer (build-tsan); .ci/run runs this after
+# `make test`. Suppressions and why: tests/sanitize/.
+sanitize: deps
+	tests/sanitize/run address build-asan $(JOBS)
+	tests/sanitize/run thread build-tsan $(JOBS)
 
 # The Debian package (CPack): build/packaging/hapticgrasp_<version>_<arch>.deb, then
 # `sudo apt install ./build/packaging/hapticgrasp_*.deb` (README: Install).

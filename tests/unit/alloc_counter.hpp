@@ -7,4 +7,6 @@
 
 namespace hg::test {
 inline long allocations() { return hg::servo::threadAllocations(); }
+inline std::size_t largestAllocation() { return hg::servo::threadLargestAllocation(); }
+inline void resetLargestAllocation() { hg::servo::resetThreadLargestAllocation(); }
 }  // namespace hg::test

@@ -16,32 +16,15 @@
 #include <gp_Trsf.hxx>
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <new>
 #include <nlohmann/json.hpp>
 #include <random>
 
+#include "alloc_counter.hpp"
 #include "hapticgrasp/geometry/backends.hpp"
-
-// Counts heap allocations made while `g_counting` is set: query() must make none. (GCC
-// cannot tell the malloc/free pair below is the replaced global new/delete.)
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-void* operator new(std::size_t size) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size ? size : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace hg::geometry {
 namespace {
@@ -436,15 +419,13 @@ TEST(AnalyticPenetration, QueryAllocatesNothing) {
   const PenetrationModelPtr sphere = makeAnalyticPenetration(mm(sphere25()));
   QueryState state;
   double sum = 0;
-  g_allocations = 0;
-  g_counting = true;
+  const long before = hg::test::allocations();
   for (int i = 0; i < 1000; ++i) {
     const Vec3 x(0.07 * std::sin(i * 0.1), 0.07 * std::cos(i * 0.13), 0.25 * std::sin(i * 0.07));
     sum += cylinder->query(x, state).depth + box->query(x, state).depth + sphere->query(x, state).depth;
     sum += cylinder->track(x, state, 1e-3).depth + box->track(x, state, 1e-3).depth;
   }
-  g_counting = false;
-  EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_EQ(hg::test::allocations() - before, 0);
   EXPECT_TRUE(std::isfinite(sum));
 }
 

@@ -169,8 +169,11 @@ TEST(MultiFingerScene, OnePartOfAThousandIsCarriedAsIfAlone) {
   EXPECT_EQ(maxQueried, 1);
   EXPECT_NEAR(method.poses()[target].position.x() - at.x(), kCarry, 0.004);
   EXPECT_NEAR(method.poses()[target].position.z() - at.z(), kLift, 0.006);
-  for (int i = 0; i < 1000; ++i)
-    if (i != target) ASSERT_EQ(method.poses()[static_cast<std::size_t>(i)].position.z(), 0) << i;
+  for (int i = 0; i < 1000; ++i) {
+    if (i != target) {
+      ASSERT_EQ(method.poses()[static_cast<std::size_t>(i)].position.z(), 0) << i;
+    }
+  }
 }
 
 // More parts round one fingertip than the pool holds: the nearest kPool are stepped and

@@ -17,6 +17,7 @@
 #include <new>
 
 #include "hapticgrasp/geometry/geometry_error.hpp"
+#include "hapticgrasp/sanitized.hpp"
 
 namespace hg::geometry {
 namespace {
@@ -68,7 +69,11 @@ std::string answerOf(const std::string& what, const std::function<std::string()>
                            const IsolationLimits& limits) {
   prctl(PR_SET_PDEATHSIG, SIGKILL);  // a parent that is killed leaves no loader running
   const rlimit memory{limits.memoryBytes, limits.memoryBytes};
+#ifndef HG_SANITIZED  // ASan and TSan reserve terabytes of shadow address space: no limit holds
   setrlimit(RLIMIT_AS, &memory);
+#else
+  (void)memory;
+#endif
   // OCCT prints its own traces (and "*** Abort ***" when a fault finds no handler): the
   // caller's error is one line, its own.
   if (const int null = open("/dev/null", O_WRONLY); null >= 0) {

@@ -10,33 +10,8 @@
 #include <cstring>
 #include <random>
 
+#include "alloc_counter.hpp"
 #include "session/mcap_fixtures.hpp"
-
-// The largest single heap request of this thread since a test reset it: proves that what a
-// file only claims (a declared size, a bomb) never becomes an allocation. Interposes malloc
-// for this test executable.
-extern "C" {
-void* __libc_malloc(std::size_t);
-void* __libc_calloc(std::size_t, std::size_t);
-void* __libc_realloc(void*, std::size_t);
-}
-namespace {
-thread_local std::size_t largestRequest = 0;
-}
-extern "C" {
-void* malloc(std::size_t n) {
-  largestRequest = std::max(largestRequest, n);
-  return __libc_malloc(n);
-}
-void* calloc(std::size_t n, std::size_t size) {
-  largestRequest = std::max(largestRequest, n * size);
-  return __libc_calloc(n, size);
-}
-void* realloc(void* p, std::size_t n) {
-  largestRequest = std::max(largestRequest, n);
-  return __libc_realloc(p, n);
-}
-}
 
 namespace hg::session {
 namespace {
@@ -327,9 +302,9 @@ TEST(McapReader, AbsurdRecordLengthStopsTheScanNotTheRead) {
   const McapChunkInfo& bad = chunks[4];
   for (const std::uint64_t length : {std::uint64_t{1} << 62, bad.length - 9 - 100}) {
     patchFile(path, bad.offset + 1, le64(length));
-    largestRequest = 0;
+    hg::test::resetLargestAllocation();
     const Read r = readChecked(path, sample);
-    EXPECT_LT(largestRequest, 4 * kMiB);
+    EXPECT_LT(hg::test::largestAllocation(), 4 * kMiB);
     EXPECT_FALSE(r.summary.complete);
     EXPECT_TRUE(r.intact);
     EXPECT_EQ(r.summary.messages, sample.messages.size() - messagesIn(sample, bad))
@@ -361,9 +336,9 @@ TEST(McapReader, HugeDeclaredUncompressedSizeIsRefusedWithoutAllocating) {
   const Sample sample = writeSample(path, 1000, options);
   const std::vector<McapChunkInfo> chunks = McapReader(path).chunkIndex();
   patchFile(path, chunks[1].offset + kMcapRecordPrefix + 16, le64(std::uint64_t{1} << 60));
-  largestRequest = 0;
+  hg::test::resetLargestAllocation();
   const Read r = readChecked(path, sample);
-  EXPECT_LT(largestRequest, 4 * kMiB);
+  EXPECT_LT(hg::test::largestAllocation(), 4 * kMiB);
   EXPECT_EQ(r.summary.messages, sample.messages.size() - messagesIn(sample, chunks[1]));
   EXPECT_TRUE(
       contains(r.summary.warnings,
@@ -407,10 +382,10 @@ TEST(McapReader, ZstdBombIsRefusedWithoutAllocatingIt) {
     writeFile(path, unfinished({c.chunk, goodChunk(2)}));
     McapReader reader(path, c.limits);
     std::vector<std::uint64_t> times;
-    largestRequest = 0;
+    hg::test::resetLargestAllocation();
     const McapSummary s =
         reader.scan([&](const McapMessageView& m) { times.push_back(m.logTime_ns); });
-    EXPECT_LT(largestRequest, 2 * kMiB) << c.says;
+    EXPECT_LT(hg::test::largestAllocation(), 2 * kMiB) << c.says;
     EXPECT_EQ(times, std::vector<std::uint64_t>{2}) << c.says;
     EXPECT_EQ(s.chunksSkipped, 1u);
     EXPECT_TRUE(
@@ -607,13 +582,13 @@ TEST(McapReader, StreamsAFileInChunkSizedMemory) {
   }
   ASSERT_GT(written, 8 * kMiB);
   McapReader reader(path);
-  largestRequest = 0;
+  hg::test::resetLargestAllocation();
   std::uint64_t bytes = 0;
   const McapSummary s = reader.scan([&](const McapMessageView& m) { bytes += m.data.size(); });
   EXPECT_TRUE(s.complete);
   EXPECT_EQ(s.messages, 30000u);
   EXPECT_EQ(bytes, 30000u * 1000u);
-  EXPECT_LT(largestRequest, 3 * kMiB) << "one chunk, compressed and not, at a time";
+  EXPECT_LT(hg::test::largestAllocation(), 3 * kMiB) << "one chunk, compressed and not, at a time";
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 
 #include "geometry/exact/face_model.hpp"
 #include "geometry/exact/patch_search.hpp"
+#include "hapticgrasp/sanitized.hpp"
 #include "surface_fixtures.hpp"
 
 namespace hg::geometry::exact {
@@ -43,7 +44,12 @@ TEST(PatchSearch, NewtonFindsTheFootOfNearPoints) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> lateral(-25, 25), height(-2, 2);
   int interior = 0;
-  for (int k = 0; k < 100; ++k) {
+#ifdef HG_SANITIZED
+  const int points = 15;  // the brute-force truth takes 95 s for 100 points in Release, 5x that sanitized
+#else
+  const int points = 100;
+#endif
+  for (int k = 0; k < points; ++k) {
     const double px = lateral(rng), py = lateral(rng) * 0.8;
     const gp_Pnt x(px, py, 6 * std::sin(px / 8) * std::cos(py / 10) + height(rng));
     for (const SurfacePatch& p : s.patches()) {
@@ -58,7 +64,7 @@ TEST(PatchSearch, NewtonFindsTheFootOfNearPoints) {
       ++interior;
     }
   }
-  EXPECT_GT(interior, 80);
+  EXPECT_GT(interior, 80 * points / 100);
 }
 
 TEST(PatchSearch, NewtonIsPushedOutOfAPatchWithoutFoot) {
