@@ -15,13 +15,6 @@
 
 #include "hapticgrasp/geometry/part_model.hpp"
 
-#ifndef HG_VERSION
-#define HG_VERSION "unknown"
-#endif
-#ifndef HG_BUILD
-#define HG_BUILD "unknown build"
-#endif
-
 namespace hg::session {
 namespace {
 
@@ -337,9 +330,6 @@ std::string contentHash(std::string_view text) {
   std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
   return hex;
 }
-
-const char* softwareVersion() { return HG_VERSION; }
-const char* softwareBuild() { return HG_BUILD; }
 
 std::string utcNow() {
   const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
