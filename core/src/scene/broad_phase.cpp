@@ -72,7 +72,8 @@ void BroadPhase::update(std::size_t item, const geometry::Aabb& box) noexcept {
     nodes_[n].box = merged(nodes_[nodes_[n].left].box, nodes_[nodes_[n].right].box);
 }
 
-std::size_t BroadPhase::query(const Vec3& x, std::span<int> out) const noexcept {
+template <class Enters>
+std::size_t BroadPhase::collect(Enters enters, std::span<int> out) const noexcept {
   if (nodes_.empty()) return 0;
   std::size_t found = 0;
   int stack[kMaxDepth];
@@ -80,7 +81,7 @@ std::size_t BroadPhase::query(const Vec3& x, std::span<int> out) const noexcept 
   stack[top++] = 0;
   while (top > 0) {
     const Node& node = nodes_[stack[--top]];
-    if (!node.box.contains(x)) continue;
+    if (!enters(node.box)) continue;
     if (node.item >= 0) {
       if (found < out.size()) out[found] = node.item;
       ++found;
@@ -92,24 +93,13 @@ std::size_t BroadPhase::query(const Vec3& x, std::span<int> out) const noexcept 
   return found;
 }
 
+std::size_t BroadPhase::query(const Vec3& x, std::span<int> out) const noexcept {
+  return collect([&](const geometry::Aabb& b) { return b.contains(x); }, out);
+}
+
 std::size_t BroadPhase::overlapping(const geometry::Aabb& box, std::span<int> out) const noexcept {
-  if (nodes_.empty() || box.empty()) return 0;
-  std::size_t found = 0;
-  int stack[kMaxDepth];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const Node& node = nodes_[stack[--top]];
-    if (!overlap(node.box, box)) continue;
-    if (node.item >= 0) {
-      if (found < out.size()) out[found] = node.item;
-      ++found;
-    } else {
-      stack[top++] = node.left;
-      stack[top++] = node.right;
-    }
-  }
-  return found;
+  if (box.empty()) return 0;
+  return collect([&](const geometry::Aabb& b) { return overlap(b, box); }, out);
 }
 
 }  // namespace hg::grasp

@@ -46,6 +46,9 @@ class BroadPhase {
     int item = -1;              // a leaf's item
   };
   int build(std::span<int> items, std::span<const geometry::Aabb> boxes, int parent);
+  // The leaves under every node whose box `enters` accepts: query's and overlapping's walk.
+  template <class Enters>
+  std::size_t collect(Enters enters, std::span<int> out) const noexcept;
 
   std::vector<Node> nodes_;     // nodes_[0] is the root
   std::vector<int> leafOf_;     // item -> its leaf
