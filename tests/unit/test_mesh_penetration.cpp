@@ -31,6 +31,7 @@
 #include "hapticgrasp/geometry/tessellation.hpp"
 #include "hapticgrasp/geometry/winding_number.hpp"
 #include "geometry/loop_crossings.hpp"
+#include "hapticgrasp/sanitized.hpp"
 #include "test_shapes.hpp"
 
 // ---- Heap accounting ------------------------------------------------------------------
@@ -76,15 +77,7 @@ void operator delete[](void* p, std::align_val_t) noexcept { release(p); }
 void operator delete(void* p, std::size_t, std::align_val_t) noexcept { release(p); }
 void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { release(p); }
 
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
-#define HG_TEST_SANITIZED 1
-#endif
-#endif
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define HG_TEST_SANITIZED 1
-#endif
-#if defined(__GLIBC__) && !defined(HG_TEST_SANITIZED)
+#if defined(__GLIBC__) && !defined(HG_SANITIZED)
 #define HG_TEST_COUNTS_MALLOC 1
 extern "C" {
 void* __libc_malloc(std::size_t);
