@@ -15,6 +15,11 @@
 
 #include "hapticgrasp/geometry/occt_faults.hpp"
 #include "hapticgrasp/geometry/part_model.hpp"
+#include "hapticgrasp/sanitized.hpp"
+
+#if defined(HG_SANITIZED) && !defined(__SANITIZE_THREAD__)
+#include <sanitizer/lsan_interface.h>
+#endif
 
 namespace hg::geometry {
 namespace {
@@ -54,6 +59,13 @@ TEST(OcctFaults, AFaultInThePartChecksIsCaughtByTheChecks) {
   ASSERT_FALSE(text.str().empty());
   for (const bool parallel : {false, true}) {
     SCOPED_TRACE(parallel ? "parallel" : "one thread");
+#if defined(HG_SANITIZED) && !defined(__SANITIZE_THREAD__)
+    // The fault is raised in the middle of OCCT's code and leaves by an exception thrown
+    // from the signal handler: what the frames it abandons had allocated (a few hundred
+    // bytes, once per faulty part) is never freed. That is the price of surviving the fault,
+    // not a leak of ours; LeakSanitizer is told to ignore what this load allocates.
+    __lsan::ScopedDisabler faultLeavesItsFramesBehind;
+#endif
     PartLoadOptions options;
     options.parallel = parallel;
     EXPECT_THROW(PartModel::fromBrepText(text.str(), LengthUnit::Millimetre, "fault", options), GeometryError);
