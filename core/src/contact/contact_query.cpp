@@ -20,15 +20,14 @@ double angleBetween(const Mat3& from, const Mat3& to) noexcept {
 
 ContactQuery::ContactQuery(ContactModelPtr held, const ContactQueryConfig& config)
     : held_(std::move(held)), config_(config) {
-  if (!held_) throw std::invalid_argument("contact query: no carried part");
   if (config.maxPoints <= 0 || config.maxNearby <= 0 || config.maxContacts <= 0)
     throw std::invalid_argument("contact query: capacities must be positive");
-  if (held_->shell().size() > static_cast<std::size_t>(config.maxPoints))
+  if (held_ && held_->shell().size() > static_cast<std::size_t>(config.maxPoints))
     throw std::invalid_argument("contact query: the carried part's shell exceeds maxPoints");
   pairs_.resize(config.maxNearby);
   for (Pair& p : pairs_) {
-    p.held.bound.resize(held_->shell().size());
-    p.held.answer.resize(held_->shell().size());
+    p.held.bound.resize(config.maxPoints);
+    p.held.answer.resize(config.maxPoints);
     p.other.bound.resize(config.maxPoints);
     p.other.answer.resize(config.maxPoints);
   }
@@ -39,6 +38,13 @@ ContactQuery::ContactQuery(ContactModelPtr held, const ContactQueryConfig& confi
 void ContactQuery::reset() noexcept {
   for (Pair& p : pairs_) p.part = -1;
   havePose_ = false;
+}
+
+bool ContactQuery::rebind(ContactModelPtr held) noexcept {
+  if (!held || held->shell().size() > static_cast<std::size_t>(config_.maxPoints)) return false;
+  held_ = std::move(held);
+  reset();
+  return true;
 }
 
 ContactQuery::Pair* ContactQuery::pairFor(int part, const ContactScene& scene) noexcept {
@@ -183,6 +189,7 @@ std::span<const Contact> ContactQuery::run(const grasp::PartPose& pose, const Co
   contactCount_ = 0;
   clearance_ = {};
   farBound_ = kInfinity;
+  if (!held_) return {};
   shift_ = havePose_ ? (pose.pointToAbsolute(held_->centre()) - lastPose_.pointToAbsolute(held_->centre())).norm()
                      : kInfinity;
   turn_ = havePose_ ? angleBetween(lastPose_.rotation, pose.rotation) : kInfinity;

@@ -46,8 +46,18 @@ void VirtualCoupling::reset(const grasp::PartPose& pose) noexcept {
   havePrevious_ = false;
   query_.reset();
   port_.reset();
+  rotationalPort_.reset();
+  handTurn_ = Vec3::Zero();
   out_ = {};
   out_.pose = pose;
+  if (held_) out_.handCentre = pose.pointToAbsolute(held_->centre());
+}
+
+bool VirtualCoupling::rebind(ContactModelPtr held, const grasp::PartPose& pose) noexcept {
+  if (!query_.rebind(held)) return false;
+  held_ = std::move(held);
+  reset(pose);
+  return true;
 }
 
 // One sub-step: towards the hand by at most the margin, as far as the contacts allow.
@@ -105,6 +115,10 @@ void VirtualCoupling::wrench(const grasp::PartPose& hand, double dt) noexcept {
   const Vec3& centre = held_->centre();
   const Vec3 cPart = pose_.pointToAbsolute(centre), cHand = hand.pointToAbsolute(centre);
   Vec3 force = parameters_.stiffness.translational_N_m * (cPart - cHand);
+  // The part is massless: standing in contact, the contacts balance the spring's pull on it
+  // exactly, so their force is the spring's (the solver's own is that of the last
+  // sub-step's share of the motion only).
+  if (out_.active > 0) out_.contactForce_N = force;
   Vec3 torque = parameters_.stiffness.rotational_Nm_rad * rotationVector(pose_.rotation * hand.rotation.transpose());
   if (havePrevious_ && dt > 0) {
     const Vec3 vPart = (cPart - previousPose_.pointToAbsolute(centre)) / dt;
@@ -113,17 +127,23 @@ void VirtualCoupling::wrench(const grasp::PartPose& hand, double dt) noexcept {
     const Vec3 wHand = rotationVector(hand.rotation * previousHand_.rotation.transpose()) / dt;
     force += parameters_.damping_Ns_m * (vPart - vHand);
     torque += parameters_.rotationalDamping_Nms_rad * (wPart - wHand);
+    handTurn_ += wHand * dt;
   }
-  Vec3 passive = force;
+  Vec3 passive = force, passiveTorque = torque;
   if (dt > 0) {
     out_.passivityDamping_Ns_m =
         port_.update(cHand, dt, force, parameters_.passivityController, parameters_.maxPassivityDamping_Ns_m, passive);
+    out_.rotationalPassivityDamping_Nms_rad =
+        rotationalPort_.update(handTurn_, dt, torque, parameters_.passivityController,
+                               parameters_.maxRotationalPassivityDamping_Nms_rad, passiveTorque);
   }
   out_.passivityEnergy_J = port_.energy();
+  out_.rotationalPassivityEnergy_J = rotationalPort_.energy();
   out_.saturated = clampNorm(passive, parameters_.maxForce_N);
-  out_.saturated = clampNorm(torque, parameters_.maxTorque_Nm) || out_.saturated;
+  out_.saturated = clampNorm(passiveTorque, parameters_.maxTorque_Nm) || out_.saturated;
   out_.force_N = passive;
-  out_.torque_Nm = torque;
+  out_.torque_Nm = passiveTorque;
+  out_.handCentre = cHand;
   previousPose_ = pose_;
   previousHand_ = hand;
   havePrevious_ = true;
@@ -135,12 +155,29 @@ const CouplingOutput& VirtualCoupling::step(const grasp::PartPose& hand, double 
   out_.substeps = 0;
   out_.penetration_m = 0;
   out_.lagging = false;
-  if (!hand.position.allFinite() || !hand.rotation.allFinite()) return out_;  // keep the last answer
+  if (!held_ || !hand.position.allFinite() || !hand.rotation.allFinite()) return out_;  // keep the last answer
   bool reached = false;
   for (int k = 0; k < parameters_.maxSubsteps && !reached; ++k) reached = substep(hand, scene, held);
   out_.lagging = !reached;
   out_.pose = pose_;
   wrench(hand, dt);
+  return out_;
+}
+
+const CouplingOutput& VirtualCoupling::observe(const grasp::PartPose& hand, const ContactScene& scene,
+                                               int held) noexcept {
+  if (!held_ || !hand.position.allFinite() || !hand.rotation.allFinite()) return out_;
+  const std::span<const Contact> contacts = query_.run(hand, scene, held, parameters_.margin_m);
+  double deepest = 0;
+  for (const Contact& k : contacts) deepest = std::max(deepest, -k.gap);
+  pose_ = hand;
+  out_ = {};
+  out_.pose = hand;
+  out_.handCentre = hand.pointToAbsolute(held_->centre());
+  out_.contacts = static_cast<int>(contacts.size());
+  out_.queried = query_.stats().queried;
+  out_.penetration_m = deepest;
+  out_.clearance = query_.clearance();
   return out_;
 }
 

@@ -207,6 +207,10 @@ void TwoFingerGrasp::hold(const HandSample& hand, GraspOutput& out) noexcept {
   out.indexPart = out.thumbPart = held_;
 }
 
+void TwoFingerGrasp::placeHeld(const PartPose& pose) noexcept {
+  if (held_ >= 0 && pose.position.allFinite() && pose.rotation.allFinite()) poses_[held_] = pose;
+}
+
 void TwoFingerGrasp::release(GraspOutput& out) noexcept {
   out.events |= kRelease;
   if (state_ == GraspState::Grasp) {

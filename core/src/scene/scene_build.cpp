@@ -41,7 +41,11 @@ void stayInTheBackground(int avoidCpu) noexcept {
 }  // namespace
 
 SceneBuild::SceneBuild(std::vector<PartSource> parts, const Options& options)
-    : sources_(std::move(parts)), backend_(options.backend), avoidCpu_(options.avoidCpu) {
+    : sources_(std::move(parts)),
+      backend_(options.backend),
+      contact_(options.contact),
+      contactOptions_(options.contactOptions),
+      avoidCpu_(options.avoidCpu) {
   scenes_.push_back(std::make_shared<const Scene>(standIns(sources_)));
   std::unordered_map<std::string, std::size_t> byKey;
   modelOf_.resize(sources_.size());
@@ -165,7 +169,8 @@ void SceneBuild::work() noexcept {
     const auto start = std::chrono::steady_clock::now();
     geometry::PartModelPtr model;
     geometry::PenetrationModelPtr penetration;
-    std::string error;
+    contact::ContactModelPtr contact;
+    std::string error, contactError;
     try {
       model = load();
       penetration = geometry::makePenetration(model, backend_);
@@ -174,6 +179,15 @@ void SceneBuild::work() noexcept {
     } catch (...) {
       error = "unknown error while building the model";
     }
+    if (penetration && contact_) {
+      try {
+        contact = contact::ContactModel::build(model, penetration, contactOptions_);
+      } catch (const std::exception& e) {
+        contactError = e.what();
+      } catch (...) {
+        contactError = "unknown error while sampling the contact shell";
+      }
+    }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::lock_guard lock(mutex_);
     Model& out = models_[m];
@@ -181,6 +195,8 @@ void SceneBuild::work() noexcept {
     if (penetration) {
       out.model = std::move(model);
       out.penetration = std::move(penetration);
+      out.contact = std::move(contact);
+      out.contactError = std::move(contactError);
       try {
         publish(m);
         out.status = Model::Status::Built;
@@ -209,6 +225,7 @@ void SceneBuild::publish(std::size_t m) {
     ScenePart p;
     p.model = model.model;
     p.penetration = model.penetration;
+    p.contact = model.contact;
     p.mass = model.model->massProperties(sources_[part].mass);
     p.bounds = model.model->bounds();
     for (const ScenePtr& scene : scenes_) scene->publish(part, p);

@@ -378,6 +378,7 @@ void ServoLoop::graspStep(TickState& s) noexcept {
   s.events |= g.events;
   snap_.raw = g.command;
   snap_.graspedPart = g.graspedPart;
+  snap_.contact = g.contact;
 }
 
 // Passivity observer (always) and controller (when on), per port.
@@ -481,6 +482,7 @@ void ServoLoop::pushRecord(const TickState& s) noexcept {
   r.events = s.events;
   r.fingertips = snap_.fingertips;
   r.graspedPart = snap_.graspedPart;
+  r.contact = snap_.contact;
   if (s.fresh) r.sample = sample_;
   r.raw = snap_.raw;
   r.sent = s.out;

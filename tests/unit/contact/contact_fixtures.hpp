@@ -16,8 +16,12 @@
 #include <numbers>
 #include <vector>
 
+#include <algorithm>
+
 #include "hapticgrasp/contact/contact_scene.hpp"
 #include "hapticgrasp/geometry/backends.hpp"
+#include "hapticgrasp/grasp/hand_sample.hpp"
+#include "hapticgrasp/scene/scene.hpp"
 
 namespace hg::test {
 
@@ -78,6 +82,61 @@ inline contact::ContactScene sceneOf(std::vector<ContactModelPtr> models) {
   std::vector<ContactBody> bodies;
   for (auto& m : models) bodies.push_back({m, grasp::PartPose{}});
   return contact::ContactScene(std::move(bodies));
+}
+
+// ---- A grasp scene with contact: a block over a plate, and a hand that lowers it onto it ----
+
+inline constexpr double kMm = 1e-3;
+inline constexpr double kPlateTop = -2 * kMm;  // 2 mm below the block's bottom face at rest
+
+// A box part as a scene holds it (mm on the way in, metres inside), with its contact shell.
+inline grasp::ScenePart boxPart(double x0, double y0, double z0, double dx, double dy, double dz, double mass_kg) {
+  const auto model = PartModel::fromShape(BRepPrimAPI_MakeBox(gp_Pnt(x0, y0, z0), dx, dy, dz).Shape(),
+                                          LengthUnit::Millimetre, "box");
+  grasp::ScenePart part = grasp::makeScenePart(model, geometry::MassSpec::mass(mass_kg), grasp::PartPose{});
+  part.contact = ContactModel::build(part.model, part.penetration);
+  return part;
+}
+
+// Part 0: a 20 mm cube on [-10, 10]² x [0, 20] mm; part 1: a plate whose top is 2 mm below it.
+inline std::vector<grasp::ScenePart> blockOverPlateParts(double mass_kg) {
+  std::vector<grasp::ScenePart> parts;
+  parts.push_back(boxPart(-10, -10, 0, 20, 20, 20, mass_kg));
+  parts.push_back(boxPart(-40, -40, kPlateTop / kMm - 5, 80, 80, 5, 1.0));
+  return parts;
+}
+inline grasp::ScenePtr blockOverPlate(double mass_kg) {
+  return std::make_shared<const grasp::Scene>(blockOverPlateParts(mass_kg));
+}
+
+// The hand at time t: fingertips on x at the cube's mid-height (index at +x), the wrist off
+// to -y, all shifted by dz; between keys, linear.
+struct HandKey {
+  double t, index_mm, thumb_mm, dz_mm;
+};
+inline grasp::HandSample handAt(const std::vector<HandKey>& keys, double t) {
+  auto b = std::upper_bound(keys.begin(), keys.end(), t, [](double x, const HandKey& k) { return x < k.t; });
+  if (b == keys.end()) b = keys.end() - 1;
+  const HandKey& a = *(b == keys.begin() ? b : b - 1);
+  const double u = b->t > a.t ? std::clamp((t - a.t) / (b->t - a.t), 0.0, 1.0) : 1.0;
+  const auto mix = [&](double x, double y) { return ((1 - u) * x + u * y) * kMm; };
+  const double z = 10 * kMm + mix(a.dz_mm, b->dz_mm);
+  grasp::HandSample h;
+  h.index = Vec3(mix(a.index_mm, b->index_mm), 0, z);
+  h.thumb = Vec3(mix(a.thumb_mm, b->thumb_mm), 0, z);
+  h.wrist = Vec3(0, -100 * kMm, z);
+  return h;
+}
+
+// Close on the cube `depth_mm` into its faces, squeeze 0.2 mm more, lift 2 mm, lower 6 mm
+// (4 mm past the plate's top), hold, open: 1.9 s.
+inline std::vector<HandKey> lowerOntoPlate(double depth_mm) {
+  const double in = 10 - depth_mm, squeezed = in - 0.2;
+  return {{0.0, 14, -14, 0},          {0.1, in, -14, 0},
+          {0.2, in, -in, 0},          {0.3, squeezed, -squeezed, 0},
+          {0.6, squeezed, -squeezed, 2}, {1.2, squeezed, -squeezed, -6},
+          {1.5, squeezed, -squeezed, -6}, {1.7, 14, -14, -6},
+          {1.9, 14, -14, -6}};
 }
 
 }  // namespace hg::test

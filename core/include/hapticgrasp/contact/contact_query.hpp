@@ -74,7 +74,9 @@ struct ContactQueryStats {
 
 class ContactQuery {
  public:
+  // `held` may be none: the query is unbound (run() finds nothing) until rebind().
   // Throws std::invalid_argument for a non-positive capacity or a shell larger than it.
+  // Every cache is sized for maxPoints, so that rebind() can take any part that fits.
   ContactQuery(ContactModelPtr held, const ContactQueryConfig& config = {});
 
   // The contacts of the carried part `held` (its index in `scene`, or -1 when it is not one
@@ -83,11 +85,15 @@ class ContactQuery {
                                double margin_m) noexcept;
   // Forget every bound and warm start (a teleported part, a new scene).
   void reset() noexcept;
+  // Another carried part, in no contact history. False (and nothing changes) when its
+  // shell exceeds maxPoints. No allocation: the caches were sized for maxPoints.
+  bool rebind(ContactModelPtr held) noexcept;
 
   std::span<const Contact> contacts() const noexcept { return {contacts_.data(), contactCount_}; }  // the last run's
   const Clearance& clearance() const noexcept { return clearance_; }
   const ContactQueryStats& stats() const noexcept { return stats_; }
-  const ContactModel& held() const noexcept { return *held_; }
+  const ContactModel& held() const noexcept { return *held_; }  // bound only
+  bool bound() const noexcept { return held_ != nullptr; }
   // Contact keys lie in [0, keyCount()).
   int keyCount() const noexcept { return 2 * config_.maxNearby * config_.maxPoints; }
 

@@ -55,6 +55,10 @@ class TwoFingerGrasp {
   GraspState state() const { return state_; }
   const GraspParameters& parameters() const { return k_; }
   const Scene& scene() const { return *scene_; }
+  // Part-to-part contact (contact/carried_contact.hpp) stopped the held part short of where
+  // the hand put it this tick: it stands at `pose`, and is put down there if released.
+  // Nothing when no part is held.
+  void placeHeld(const PartPose& pose) noexcept;
   std::span<const PartPose> poses() const { return poses_; }
 
  private:

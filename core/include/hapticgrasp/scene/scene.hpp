@@ -20,6 +20,10 @@
 #include "hapticgrasp/geometry/part_model.hpp"
 #include "hapticgrasp/grasp/part_pose.hpp"
 
+namespace hg::contact {
+class ContactModel;  // contact/contact_model.hpp
+}
+
 namespace hg::grasp {
 
 struct ScenePart {
@@ -29,6 +33,9 @@ struct ScenePart {
   geometry::Aabb bounds;                     // object frame (the Scene fills it from the model if empty)
   PartPose initialPose;                      // where the part rests before anyone moves it
   bool coarse = false;                       // a stand-in until the part's own models are built
+  // Its point shell and sharp edges for part-to-part contact (contact/contact_model.hpp),
+  // when the scene was built with contact; none: other parts pass through it.
+  std::shared_ptr<const contact::ContactModel> contact;
 };
 
 // The usual way to make one: mass properties from the B-rep, penetration back end `backend`

@@ -21,6 +21,7 @@
 #include <thread>
 #include <vector>
 
+#include "hapticgrasp/contact/contact_model.hpp"
 #include "hapticgrasp/geometry/backend.hpp"
 #include "hapticgrasp/geometry/mass_properties.hpp"
 #include "hapticgrasp/geometry/part_model.hpp"
@@ -47,6 +48,11 @@ class SceneBuild {
     int workers = 1;
     geometry::Backend backend = geometry::Backend::Auto;
     int avoidCpu = -1;  // the servo thread's CPU (ServoConfig::cpu): the workers run on the others
+    // Part-to-part contact: each model also gets its contact shell (ScenePart::contact).
+    // A shell that fails leaves the part without contact (contactError says why), never
+    // without its model.
+    bool contact = false;
+    contact::ContactModelOptions contactOptions;
   };
   // One distinct model and what became of it.
   struct Model {
@@ -56,6 +62,8 @@ class SceneBuild {
     std::string error;                // Failed: why (the parts keep their stand-in)
     geometry::PartModelPtr model;     // Built
     geometry::PenetrationModelPtr penetration;
+    contact::ContactModelPtr contact;  // with Options::contact
+    std::string contactError;          // why it has none, when it should have one
     double build_s = 0;
   };
   struct Progress {
@@ -110,6 +118,8 @@ class SceneBuild {
   Vec3 focus_ = Vec3::Zero();
   std::size_t remaining_ = 0, exactParts_ = 0, running_ = 0;
   geometry::Backend backend_;
+  bool contact_ = false;
+  contact::ContactModelOptions contactOptions_;
   std::atomic<bool> cancel_{false};
   int avoidCpu_ = -1;
   std::vector<std::thread> workers_;

@@ -30,6 +30,7 @@
 #include <string>
 #include <thread>
 
+#include "hapticgrasp/contact/contact_report.hpp"
 #include "hapticgrasp/device/device.hpp"
 #include "hapticgrasp/grasp/grasp_parameters.hpp"
 #include "hapticgrasp/grasp/grasp_state.hpp"
@@ -135,6 +136,7 @@ struct ServoSnapshot {
   device::DeviceCommand sent;    // after passivity controller, saturation and watchdog gain
   bool saturated = false;        // some vector of `sent` was clamped this tick
   int graspedPart = -1;
+  contact::ContactReport contact;  // part-to-part contact of the last grasp step (part -1: none)
   WatchdogStatus watchdog;
   double energy_J[kPortCount] = {};   // passivity observer E(n) per Port (see passivity.hpp)
   double alpha_Ns_per_m[kPortCount] = {};  // passivity controller damping this tick

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <memory>
 
+#include "hapticgrasp/contact/contact_report.hpp"
 #include "hapticgrasp/device/device.hpp"
 #include "hapticgrasp/grasp/grasp_state.hpp"
 #include "hapticgrasp/grasp/part_pose.hpp"
@@ -44,6 +45,7 @@ struct TickRecord {
   std::uint32_t events = 0;             // GraspEvent | ServoEvent bits raised this tick
   int fingertips = 2;
   int graspedPart = -1;
+  contact::ContactReport contact;       // part-to-part contact this tick (part -1: none)
   device::DeviceSample sample;          // as read (meaningful when freshSample)
   device::DeviceCommand raw;            // what the grasp asked for
   device::DeviceCommand sent;           // after passivity, saturation and the watchdog's gain

@@ -257,6 +257,12 @@ const MultiFingerOutput& MultiFingerGrasp::step(std::span<const Vec3> tips, cons
 // allows. Both are ≥ 0 and continuous in the contacts and (F, N), and so is the blend
 // (requirements 1 and 3). A larger γ3 cannot do this: it bounds the squeeze only with
 // γ3 ≳ 1/8, which also drops ~10 % of every force.
+void MultiFingerGrasp::constrainBody(const PartPose& pose, double dt) noexcept {
+  body_.correct(pose, dt);
+  out_.body = body_.pose();
+  if (params_.method == Method::Conventional) out_.shell = out_.body;
+}
+
 void MultiFingerGrasp::distribute(std::span<const FingerContact> contacts, const Vec3& F, const Vec3& N,
                                   const Vec3& centre, std::array<double, kMaxFingers>& share) noexcept {
   const int m = static_cast<int>(contacts.size());

@@ -206,6 +206,15 @@ void MultiFingerScene::stepCarried(Bound& b, std::span<const Vec3> tips, double 
   }
 }
 
+void MultiFingerScene::constrain(int part, const PartPose& pose, double dt) noexcept {
+  if (part < 0 || static_cast<std::size_t>(part) >= poses_.size()) return;
+  const auto i = static_cast<std::size_t>(part);
+  poses_[i] = pose;
+  Bound* b = boundTo(part);
+  if (b && b->carried) b->method->constrainBody(pose, dt);
+  else boxes_.update(i, worldBox(i));
+}
+
 void MultiFingerScene::leave(Bound& b) noexcept {
   for (GodObject& g : b.resting) g.reset();
   b.contacts = 0;

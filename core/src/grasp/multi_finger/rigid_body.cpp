@@ -50,6 +50,15 @@ void RigidBody::step(const PartPose& target, const Vec3& targetVelocity, const V
   springTorque_ = kr * phiNew + cr * (targetAngularVelocity - w_);
 }
 
+void RigidBody::correct(const PartPose& pose, double dt) noexcept {
+  if (!(dt > 0) || !std::isfinite(dt) || !pose.position.allFinite() || !pose.rotation.allFinite()) return;
+  const Vec3 x = pose_.pointToAbsolute(centre_);
+  const Vec3 turn = math::rotationVector(pose.rotation * pose_.rotation.transpose());
+  v_ += (pose.pointToAbsolute(centre_) - x) / dt;
+  w_ += turn / dt;
+  pose_ = pose;
+}
+
 void RigidBody::stepCoupled(std::span<const Vec3> rho, std::span<const Vec3> f0, std::span<const double> g,
                             std::span<Vec3> applied, const Vec3& force, const Vec3& torque, double dt) noexcept {
   const std::size_t n = rho.size();

@@ -88,6 +88,10 @@ class MultiFingerGrasp {
   const MultiFingerOutput& step(std::span<const Vec3> fingertips, const Vec3& externalForce,
                                 const Vec3& externalTorque, double dt) noexcept;
 
+  // Part-to-part contact stopped the part short of where the tick took it: it stands at
+  // `pose` (RigidBody::correct), and the fingers feel the stop through the shell's spring.
+  void constrainBody(const PartPose& pose, double dt) noexcept;
+
   int count() const noexcept { return count_; }
   const MultiFingerOutput& output() const noexcept { return out_; }
   const RigidBody& body() const noexcept { return body_; }

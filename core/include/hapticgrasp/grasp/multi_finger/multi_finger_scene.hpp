@@ -76,6 +76,10 @@ class MultiFingerScene {
   GraspState state() const noexcept { return out_.state; }
   std::span<const PartPose> poses() const noexcept { return poses_; }
   bool carried(int part) const noexcept;
+  // Part-to-part contact (contact/carried_contact.hpp) stopped `part` short of where the last
+  // step() took it: it stands at `pose`. Carried, its body is corrected (the fingers feel
+  // the stop); just put down, it rests there. No allocation.
+  void constrain(int part, const PartPose& pose, double dt) noexcept;
   // The parts carried after the last step(), ascending.
   std::span<const int> carriedParts() const noexcept { return {carriedList_.data(), carriedCount_}; }
 

@@ -42,6 +42,12 @@ class RigidBody {
   void stepCoupled(std::span<const Vec3> rho, std::span<const Vec3> f0, std::span<const double> g,
                    std::span<Vec3> applied, const Vec3& force, const Vec3& torque, double dt) noexcept;
 
+  // The body may not be where the tick left it (part-to-part contact stopped it short,
+  // contact/carried_contact.hpp): it is moved to `pose`, and the velocity it had towards
+  // where it would have gone is what it has towards `pose` instead: v += Δx / dt, ω += Δθ / dt,
+  // so that a stop leaves no velocity into the obstacle (an inelastic contact, passive).
+  void correct(const PartPose& pose, double dt) noexcept;
+
   const PartPose& pose() const noexcept { return pose_; }
   Vec3 centreWorld() const noexcept { return pose_.pointToAbsolute(centre_); }
   const Vec3& velocity() const noexcept { return v_; }            // of the centre of gravity
