@@ -44,7 +44,7 @@ double forceDiff(const device::DeviceCommand& a, const device::DeviceCommand& b)
   return std::isnan(d) ? std::numeric_limits<double>::infinity() : d;
 }
 
-grasp::ScenePart rebuildPart(const RecordedPart& p) {
+grasp::ScenePart rebuildPart(const RecordedPart& p, const SessionDescription& d) {
   const geometry::MassSpec mass = geometry::MassSpec::mass(p.mass.mass_kg);
   grasp::ScenePart part;
   if (p.coarse || p.brep.empty()) {
@@ -62,6 +62,7 @@ grasp::ScenePart rebuildPart(const RecordedPart& p) {
     const auto model = geometry::PartModel::fromShape(shape, p.unit, p.name);
     const geometry::Backend backend = p.backend == "box" ? geometry::Backend::Auto : geometry::parseBackend(p.backend);
     part = grasp::makeScenePart(model, mass, p.initialPose, backend);
+    if (d.contact) part.contact = contact::ContactModel::build(part.model, part.penetration, d.contactModel);
   }
   part.mass = p.mass;  // as recorded, to the bit
   return part;
@@ -104,14 +105,16 @@ void stepOne(servo::ServoLoop& loop, RecordedDevice& device, const servo::TickRe
 grasp::ScenePtr rebuildScene(const SessionDescription& d) {
   std::vector<grasp::ScenePart> parts;
   parts.reserve(d.parts.size());
-  for (const RecordedPart& p : d.parts) parts.push_back(rebuildPart(p));
+  for (const RecordedPart& p : d.parts) parts.push_back(rebuildPart(p, d));
   return std::make_shared<const grasp::Scene>(std::move(parts));
 }
 
 std::unique_ptr<servo::GraspEngine> rebuildEngine(const SessionDescription& d, grasp::ScenePtr scene) {
-  if (d.method == "two-finger") return std::make_unique<servo::TwoFingerEngine>(std::move(scene), d.twoFinger);
+  std::optional<contact::CarriedContactConfig> contact;
+  if (d.contact) contact = d.contactConfig;
+  if (d.method == "two-finger") return std::make_unique<servo::TwoFingerEngine>(std::move(scene), d.twoFinger, contact);
   if (d.method == "multi-finger")
-    return std::make_unique<servo::MultiFingerEngine>(std::move(scene), d.fingertips, d.multiFinger);
+    return std::make_unique<servo::MultiFingerEngine>(std::move(scene), d.fingertips, d.multiFinger, contact);
   throw SessionError("recording: unknown grasp method '" + d.method + "'");
 }
 
@@ -177,7 +180,7 @@ ReplayCheck replay(const std::string& path,
           if (swap.part < 0 || static_cast<std::size_t>(swap.part) >= scene->size())
             throw SessionError("model swap for part " + std::to_string(swap.part) + " of " +
                                std::to_string(scene->size()));
-          pending.push_back({swap.publication, swap.part, rebuildPart(swap.model)});
+          pending.push_back({swap.publication, swap.part, rebuildPart(swap.model, *description)});
           return;
         }
         if (m.channel != tickChannel) return;

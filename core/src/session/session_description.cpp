@@ -170,6 +170,70 @@ grasp::multi_finger::MultiFingerSceneParams multiFingerFrom(const json& j) {
   return s;
 }
 
+json contactJson(const SessionDescription& d) {
+  if (!d.contact) return nullptr;
+  const contact::ContactModelOptions& m = d.contactModel;
+  const contact::CouplingParameters& c = d.contactConfig.coupling;
+  const contact::ContactQueryConfig& q = d.contactConfig.query;
+  return {{"constrain", d.contactConfig.constrain},
+          {"shell", {{"max_points", m.maxPoints}, {"edge_density", num(m.edgeDensity)}, {"sharp_angle_rad", num(m.sharpAngle_rad)}}},
+          {"coupling",
+           {{"k_t", num(c.stiffness.translational_N_m)}, {"k_r", num(c.stiffness.rotational_Nm_rad)},
+            {"b_t", num(c.damping_Ns_m)}, {"b_r", num(c.rotationalDamping_Nms_rad)}, {"friction", num(c.friction)},
+            {"margin_m", num(c.margin_m)}, {"max_substeps", c.maxSubsteps}, {"solver_iterations", c.solverIterations},
+            {"row_slack_m", num(c.rowSlack_m)}, {"max_rows", c.maxRows}, {"max_force_N", num(c.maxForce_N)},
+            {"max_torque_Nm", num(c.maxTorque_Nm)}, {"passivity_controller", c.passivityController},
+            {"max_passivity_damping_Ns_m", num(c.maxPassivityDamping_Ns_m)},
+            {"max_rotational_passivity_damping_Nms_rad", num(c.maxRotationalPassivityDamping_Nms_rad)}}},
+          {"query",
+           {{"max_points", q.maxPoints}, {"max_nearby", q.maxNearby}, {"max_contacts", q.maxContacts},
+            {"clearance_range_m", num(q.clearanceRange_m)}, {"requery_m", num(q.requery_m)},
+            {"max_predict_m", num(q.maxPredict_m)}, {"query_budget", q.queryBudget}}}};
+}
+void contactFrom(const json& j, SessionDescription& d) {
+  d.contact = j.is_object();
+  if (!d.contact) return;
+  // Counts size buffers: one beyond its range would let a hostile recording ask for any memory.
+  const auto integer = [](const json& o, const char* name, int lo, int hi) {
+    const double v = number(o, name);
+    if (!(v >= lo && v <= hi))
+      throw SessionError(std::string("session metadata: contact '") + name + "' is not within " + std::to_string(lo) +
+                         "-" + std::to_string(hi));
+    return static_cast<int>(v);
+  };
+  d.contactConfig.constrain = field(j, "constrain").get<bool>();
+  const json& m = field(j, "shell");
+  d.contactModel.maxPoints = integer(m, "max_points", 8, 65536);
+  d.contactModel.edgeDensity = number(m, "edge_density");
+  d.contactModel.sharpAngle_rad = number(m, "sharp_angle_rad");
+  const json& c = field(j, "coupling");
+  contact::CouplingParameters& p = d.contactConfig.coupling;
+  p.stiffness.translational_N_m = number(c, "k_t");
+  p.stiffness.rotational_Nm_rad = number(c, "k_r");
+  p.damping_Ns_m = number(c, "b_t");
+  p.rotationalDamping_Nms_rad = number(c, "b_r");
+  p.friction = number(c, "friction");
+  p.margin_m = number(c, "margin_m");
+  p.maxSubsteps = integer(c, "max_substeps", 1, 64);
+  p.solverIterations = integer(c, "solver_iterations", 1, 1000);
+  p.rowSlack_m = number(c, "row_slack_m");
+  p.maxRows = integer(c, "max_rows", 1, 4096);
+  p.maxForce_N = number(c, "max_force_N");
+  p.maxTorque_Nm = number(c, "max_torque_Nm");
+  p.passivityController = field(c, "passivity_controller").get<bool>();
+  p.maxPassivityDamping_Ns_m = number(c, "max_passivity_damping_Ns_m");
+  p.maxRotationalPassivityDamping_Nms_rad = number(c, "max_rotational_passivity_damping_Nms_rad");
+  const json& q = field(j, "query");
+  contact::ContactQueryConfig& r = d.contactConfig.query;
+  r.maxPoints = integer(q, "max_points", 1, 65536);
+  r.maxNearby = integer(q, "max_nearby", 1, 64);
+  r.maxContacts = integer(q, "max_contacts", 1, 4096);
+  r.clearanceRange_m = number(q, "clearance_range_m");
+  r.requery_m = number(q, "requery_m");
+  r.maxPredict_m = number(q, "max_predict_m");
+  r.queryBudget = integer(q, "query_budget", 0, 65536);
+}
+
 json partJson(const RecordedPart& p) {
   return {{"name", p.name},
           {"attachment", p.attachment},
@@ -229,6 +293,7 @@ std::string toJson(const SessionDescription& d) {
                   {"device", deviceJson(d.device)},
                   {"two_finger", twoFingerJson(d.twoFinger)},
                   {"multi_finger", multiFingerJson(d.multiFinger)},
+                  {"contact", contactJson(d)},
                   {"parts", parts},
                   {"scene_publications", d.scenePublications}};
   return j.dump();
@@ -252,6 +317,7 @@ SessionDescription sessionFromJson(std::string_view text) {
     d.device = deviceFrom(field(j, "device"));
     d.twoFinger = twoFingerFrom(field(j, "two_finger"));
     d.multiFinger = multiFingerFrom(field(j, "multi_finger"));
+    if (j.contains("contact")) contactFrom(j["contact"], d);
     const json& parts = field(j, "parts");
     if (!parts.is_array()) throw SessionError("session metadata: 'parts' is not a list");
     for (const json& p : parts) d.parts.push_back(partFrom(p));

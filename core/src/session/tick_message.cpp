@@ -122,6 +122,34 @@ void putMoving(const TickRecord& r, hapticgrasp::Tick& t) {
   }
 }
 
+// Written only when something was carried with contact: the usual tick stays as lean.
+void putContact(const contact::ContactReport& c, hapticgrasp::Tick& t) {
+  if (c.part < 0 && c.carried == 0 && c.unmodelled == 0) return;
+  hapticgrasp::Contact& m = *t.mutable_contact();
+  m.set_part(c.part);
+  m.set_carried(c.carried);
+  m.set_unmodelled(c.unmodelled);
+  m.set_clearance_m(c.clearance_m);
+  m.set_clearance_exact(c.clearanceExact);
+  m.set_other_part(c.otherPart);
+  m.set_held_face(c.heldFace);
+  m.set_other_face(c.otherFace);
+  putVec(c.heldPoint, m.mutable_held_point());
+  putVec(c.otherPoint, m.mutable_other_point());
+  m.set_penetration_m(c.penetration_m);
+  putVec(c.contactForce_N, m.mutable_contact_force_n());
+  putVec(c.couplingForce_N, m.mutable_coupling_force_n());
+  putVec(c.couplingTorque_Nm, m.mutable_coupling_torque_nm());
+  m.set_contacts(c.contacts);
+  m.set_active(c.active);
+  m.set_substeps(c.substeps);
+  m.set_queried(c.queried);
+  m.set_lagging(c.lagging);
+  m.set_saturated(c.saturated);
+  m.set_passivity_energy_j(c.passivityEnergy_J);
+  m.set_rotational_passivity_energy_j(c.rotationalPassivityEnergy_J);
+}
+
 void putTick(const TickRecord& r, hapticgrasp::Tick& t) {
   t.set_tick(r.tick);
   t.set_time_s(r.time_s);
@@ -146,6 +174,7 @@ void putTick(const TickRecord& r, hapticgrasp::Tick& t) {
   t.set_period_error_us(r.periodError_us);
   t.set_scene_publications(r.scenePublications);
   putMoving(r, t);
+  putContact(r.contact, t);
   t.set_fingertips(r.fingertips);
 }
 
@@ -215,6 +244,36 @@ bool getMoving(const hapticgrasp::Tick& t, TickRecord& r) {
   return true;
 }
 
+// The scalars putContact always sets must be there: absent ones are not its form.
+bool getContact(const hapticgrasp::Tick& t, contact::ContactReport& c) {
+  c = {};
+  if (!t.has_contact()) return true;
+  const hapticgrasp::Contact& m = t.contact();
+  if (!m.has_clearance_m() || !m.has_penetration_m() || !m.has_passivity_energy_j() ||
+      !m.has_rotational_passivity_energy_j())
+    return false;
+  c.part = m.part();
+  c.carried = m.carried();
+  c.unmodelled = m.unmodelled();
+  c.clearance_m = m.clearance_m();
+  c.clearanceExact = m.clearance_exact();
+  c.otherPart = m.other_part();
+  c.heldFace = m.held_face();
+  c.otherFace = m.other_face();
+  c.penetration_m = m.penetration_m();
+  c.contacts = m.contacts();
+  c.active = m.active();
+  c.substeps = m.substeps();
+  c.queried = m.queried();
+  c.lagging = m.lagging();
+  c.saturated = m.saturated();
+  c.passivityEnergy_J = m.passivity_energy_j();
+  c.rotationalPassivityEnergy_J = m.rotational_passivity_energy_j();
+  return getVec(m.held_point(), c.heldPoint) && getVec(m.other_point(), c.otherPoint) &&
+         getVec(m.contact_force_n(), c.contactForce_N) && getVec(m.coupling_force_n(), c.couplingForce_N) &&
+         getVec(m.coupling_torque_nm(), c.couplingTorque_Nm);
+}
+
 // Enums and narrow integers arrive as wider protobuf types: out of range means not ours.
 bool inRange(const hapticgrasp::Tick& t) {
   return t.fingertips() >= 1 && t.fingertips() <= grasp::HandSample::kMaxFingertips &&
@@ -245,7 +304,8 @@ bool getTick(const hapticgrasp::Tick& t, TickRecord& r) {
   if (!getSample(t.sample(), r.sample) || !getCommand(t.raw(), r.raw)) return false;  // r.raw starts at zero
   r.sent = r.raw;
   if (!getCommand(t.sent(), r.sent)) return false;
-  return getPorts(t.energy_j(), r.energy_J) && getPorts(t.alpha_ns_per_m(), r.alpha_Ns_per_m) && getMoving(t, r);
+  return getPorts(t.energy_j(), r.energy_J) && getPorts(t.alpha_ns_per_m(), r.alpha_Ns_per_m) && getMoving(t, r) &&
+         getContact(t, r.contact);
 }
 
 }  // namespace

@@ -17,6 +17,7 @@
 #include "hapticgrasp/session/recording.hpp"
 #include "hapticgrasp/session/recorder.hpp"
 #include "hapticgrasp/session/replay.hpp"
+#include "contact/contact_fixtures.hpp"
 #include "session/stepped_session.hpp"
 
 namespace hg::session {
@@ -71,6 +72,60 @@ TEST(Replay, TwoFingerSessionIsBitIdentical) {
 
 TEST(Replay, MultiFingerSessionOnAnExactPartIsBitIdentical) {
   expectIdentical(replay(recordBench("multi.mcap", "multi-finger", 3, "block")));
+}
+
+// The hand of contact_fixtures.hpp that lowers a block onto a plate, read at the time given.
+class LoweringHand final : public device::Device {
+ public:
+  const device::DeviceSpec& spec() const noexcept override { return spec_; }
+  bool read(device::DeviceSample& s) noexcept override {
+    s.hand = hg::test::handAt(keys_, now_s);
+    return true;
+  }
+  void write(const device::DeviceCommand&) noexcept override {}
+  double now_s = 0;
+
+ private:
+  std::vector<hg::test::HandKey> keys_ = hg::test::lowerOntoPlate(0.5);
+  device::DeviceSpec spec_ = servo::ScriptedHandDevice::defaultSpec();
+};
+
+// Part-to-part contact replays bit for bit: the contact shells are rebuilt from the attached
+// shapes and the recorded options, the coupling from the recorded parameters.
+TEST(Replay, ASessionWithPartToPartContactIsBitIdentical) {
+  const grasp::ScenePtr scene = hg::test::blockOverPlate(0.1);
+  SessionDescription d = test::describeBench(*scene, servo::ScriptedHandDevice::defaultSpec(), 2000);
+  d.contact = true;
+  d.contactConfig.query.maxPoints = d.contactModel.maxPoints;
+  const std::string file = (test::tempDir("replay-contact") / "contact.mcap").string();
+  {
+    auto hand = std::make_shared<LoweringHand>();
+    servo::ServoConfig config;
+    config.realtime = false;
+    servo::ServoLoop loop(hand, rebuildEngine(d, scene), config);
+    Recorder recorder(file, d, scene);
+    loop.record(recorder.ring());
+    recorder.start();
+    for (int k = 0; k < 3800; ++k) {
+      hand->now_s = k * 0.0005;
+      loop.step(k * 0.0005, k ? 0.0005 : 0.0);
+      if (k % 500 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    recorder.stop();
+  }
+  int touching = 0;
+  double lowest = 1;
+  const ReplayCheck c = replay(file, [&](const servo::TickRecord& r, const servo::ServoSnapshot& s) {
+    touching += r.contact.part == 0 && r.contact.active > 0 && s.contact.active == r.contact.active;
+    for (int k = 0; k < s.movingCount; ++k)
+      if (s.moving[k].part == 0) lowest = std::min(lowest, s.moving[k].pose.position.z());
+  });
+  EXPECT_EQ(c.stateMismatches, 0u);
+  EXPECT_EQ(c.maxForceDiff_N, 0.0);
+  EXPECT_EQ(c.maxPoseDiff_m, 0.0);
+  EXPECT_TRUE(c.complete);
+  EXPECT_GT(touching, 100);  // the comparison covered a part standing on the plate
+  EXPECT_GE(lowest, hg::test::kPlateTop - 5e-5);
 }
 
 TEST(Replay, RebuildsTheRecordedSceneFromTheAttachedShapes) {

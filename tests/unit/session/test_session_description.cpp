@@ -38,6 +38,13 @@ SessionDescription sample() {
   d.twoFinger.rotationalSpring = grasp::RotationalSpring::PaperRpy;
   d.multiFinger.grasp.friction = 0.3;
   d.multiFinger.grasp.distribution.gamma2 = 1e-300;
+  d.contact = true;
+  d.contactConfig.constrain = false;
+  d.contactModel.maxPoints = 700;
+  d.contactModel.edgeDensity = 1.0 / 3;
+  d.contactConfig.coupling.stiffness.translational_N_m = 1234.5678901;
+  d.contactConfig.coupling.maxRotationalPassivityDamping_Nms_rad = 0.1 / 7;
+  d.contactConfig.query.queryBudget = 17;
   d.parts = describeParts(*servo::benchScene());
   return d;
 }
@@ -54,6 +61,13 @@ TEST(SessionDescription, RoundTripsEveryParameterToTheBit) {
   EXPECT_TRUE(sameBits(e.twoFinger.K_c, d.twoFinger.K_c));
   EXPECT_EQ(e.twoFinger.rotationalSpring, grasp::RotationalSpring::PaperRpy);
   EXPECT_TRUE(sameBits(e.multiFinger.grasp.distribution.gamma2, 1e-300));
+  EXPECT_TRUE(e.contact);
+  EXPECT_FALSE(e.contactConfig.constrain);
+  EXPECT_EQ(e.contactModel.maxPoints, 700);
+  EXPECT_TRUE(sameBits(e.contactModel.edgeDensity, 1.0 / 3));
+  EXPECT_TRUE(sameBits(e.contactConfig.coupling.stiffness.translational_N_m, 1234.5678901));
+  EXPECT_TRUE(sameBits(e.contactConfig.coupling.maxRotationalPassivityDamping_Nms_rad, 0.1 / 7));
+  EXPECT_EQ(e.contactConfig.query.queryBudget, 17);
   ASSERT_EQ(e.parts.size(), 1u);
   const RecordedPart &p = d.parts[0], &q = e.parts[0];
   EXPECT_EQ(q.name, p.name);
@@ -119,6 +133,28 @@ TEST(SessionDescription, ADamagedDescriptionNamesWhatIsWrong) {
   } catch (const SessionError& e) {
     EXPECT_NE(std::string(e.what()).find("rate_hz"), std::string::npos) << e.what();
   }
+}
+
+// A recording from someone else is untrusted: a contact count that would size a buffer
+// beyond reason is refused by name, before anything is built from it.
+TEST(SessionDescription, AContactCountBeyondItsRangeIsRefused) {
+  std::string json = toJson(sample());
+  const auto at = json.find("\"query_budget\":17");
+  ASSERT_NE(at, std::string::npos);
+  std::string huge = json;
+  const auto points = huge.find("\"max_points\":700");
+  ASSERT_NE(points, std::string::npos);
+  huge.replace(points, 16, "\"max_points\":1e12");
+  try {
+    sessionFromJson(huge);
+    FAIL() << "a shell of 1e12 points was accepted";
+  } catch (const SessionError& e) {
+    EXPECT_NE(std::string(e.what()).find("max_points"), std::string::npos) << e.what();
+  }
+  const auto constrain = json.find("\"constrain\":false");
+  ASSERT_NE(constrain, std::string::npos);
+  json.replace(constrain, 19, "\"constrain\":\"no\"");
+  EXPECT_THROW(sessionFromJson(json), SessionError);
 }
 
 }  // namespace

@@ -200,6 +200,28 @@ void expectSameRecord(const TickRecord& a, const TickRecord& b) {
     EXPECT_BITS(movingPose[k].rotation) << k;
     EXPECT_BITS(movingPose[k].position) << k;
   }
+  EXPECT_BITS(contact.part);
+  EXPECT_BITS(contact.carried);
+  EXPECT_BITS(contact.unmodelled);
+  EXPECT_BITS(contact.clearance_m);
+  EXPECT_BITS(contact.clearanceExact);
+  EXPECT_BITS(contact.otherPart);
+  EXPECT_BITS(contact.heldFace);
+  EXPECT_BITS(contact.otherFace);
+  EXPECT_BITS(contact.heldPoint);
+  EXPECT_BITS(contact.otherPoint);
+  EXPECT_BITS(contact.penetration_m);
+  EXPECT_BITS(contact.contactForce_N);
+  EXPECT_BITS(contact.couplingForce_N);
+  EXPECT_BITS(contact.couplingTorque_Nm);
+  EXPECT_BITS(contact.contacts);
+  EXPECT_BITS(contact.active);
+  EXPECT_BITS(contact.substeps);
+  EXPECT_BITS(contact.queried);
+  EXPECT_BITS(contact.lagging);
+  EXPECT_BITS(contact.saturated);
+  EXPECT_BITS(contact.passivityEnergy_J);
+  EXPECT_BITS(contact.rotationalPassivityEnergy_J);
 }
 
 TickRecord roundTrip(const TickRecord& r, std::string* bytes = nullptr) {
@@ -213,6 +235,42 @@ TickRecord roundTrip(const TickRecord& r, std::string* bytes = nullptr) {
 
 TEST(TickMessage, EveryFieldRoundTripsBitForBit) {
   const TickRecord r = fullRecord();
+  expectSameRecord(r, roundTrip(r));
+}
+
+// A carried part in contact with another (the report of contact/contact_report.hpp), and one
+// with no part near (its clearance an infinite bound): both come back bit for bit.
+TEST(TickMessage, PartToPartContactRoundTripsBitForBit) {
+  TickRecord r = graspTick();
+  contact::ContactReport& c = r.contact;
+  c.part = 0;
+  c.carried = 1;
+  c.clearance_m = -1.25e-6;  // interference
+  c.clearanceExact = true;
+  c.otherPart = 3;
+  c.heldFace = 5;
+  c.otherFace = 12;
+  c.heldPoint = Vec3(0.1, 0.2, -0.0000001);
+  c.otherPoint = Vec3(0.1, 0.2, 0.0000002);
+  c.penetration_m = 1.25e-6;
+  c.contactForce_N = Vec3(0, 0.1, 7.9);
+  c.couplingForce_N = Vec3(0, 0.1, 7.8);
+  c.couplingTorque_Nm = Vec3(-0.0, 0.01, 0);
+  c.contacts = 17;
+  c.active = 4;
+  c.substeps = 2;
+  c.queried = 33;
+  c.saturated = true;
+  c.passivityEnergy_J = 1e-3;
+  c.rotationalPassivityEnergy_J = -2e-9;
+  expectSameRecord(r, roundTrip(r));
+  c = {};
+  c.part = 0;
+  c.carried = 1;  // no part near: +inf, a bound
+  expectSameRecord(r, roundTrip(r));
+  EXPECT_TRUE(std::isinf(roundTrip(r).contact.clearance_m));
+  c = {};
+  c.unmodelled = 1;  // carried without a shell
   expectSameRecord(r, roundTrip(r));
 }
 

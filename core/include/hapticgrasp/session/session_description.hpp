@@ -14,6 +14,8 @@
 #include <string_view>
 #include <vector>
 
+#include "hapticgrasp/contact/carried_contact.hpp"
+#include "hapticgrasp/contact/contact_model.hpp"
 #include "hapticgrasp/device/device.hpp"
 #include "hapticgrasp/geometry/aabb.hpp"
 #include "hapticgrasp/geometry/mass_properties.hpp"
@@ -66,6 +68,12 @@ struct SessionDescription {
   device::DeviceSpec device;
   grasp::GraspParameters twoFinger;
   grasp::multi_finger::MultiFingerSceneParams multiFinger;
+  // Part-to-part contact (contact/carried_contact.hpp): on, the parts' contact shells are
+  // rebuilt with `contactModel` (deterministic: the same shell from the same BREP) and the
+  // engine couples carried parts with `contactConfig`. Recordings before it: off.
+  bool contact = false;
+  contact::ContactModelOptions contactModel;
+  contact::CarriedContactConfig contactConfig;
   std::vector<RecordedPart> parts;
   // The scene's model publications (Scene::publications()) made before `parts` was taken:
   // the ones after it are recorded as model swaps (session/model_swap_message.hpp).
