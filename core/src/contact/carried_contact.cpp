@@ -1,5 +1,7 @@
 #include "hapticgrasp/contact/carried_contact.hpp"
 
+#include <algorithm>
+#include <array>
 #include <stdexcept>
 
 namespace hg::contact {
@@ -61,13 +63,28 @@ void CarriedContact::beginTick() noexcept {
 
 bool CarriedContact::lift(int part, const grasp::PartPose& pose) noexcept {
   if (part < 0 || static_cast<std::size_t>(part) >= contactScene_.size()) return false;
-  if (Slot* s = slotOf(part)) return s->coupling.rebind(contactScene_.body(static_cast<std::size_t>(part)).model, pose);
   const ContactModelPtr& model = contactScene_.body(static_cast<std::size_t>(part)).model;
-  if (!model) return false;
-  Slot* free = slotOf(-1);
-  if (!free || !free->coupling.rebind(model, pose)) return false;
-  free->part = part;
+  Slot* slot = slotOf(part);
+  if (!slot) slot = model ? slotOf(-1) : nullptr;
+  if (!slot || !slot->coupling.rebind(model, pose)) return false;
+  slot->part = part;
+  letThroughWhatItInterferes(*slot, pose);
   return true;
+}
+
+// The parts it already interferes with where it stands: one look (no constraint), then
+// those pairs are left out for this carry.
+void CarriedContact::letThroughWhatItInterferes(Slot& slot, const grasp::PartPose& pose) noexcept {
+  slot.coupling.observe(pose, contactScene_, slot.part);
+  std::array<int, ContactQuery::kMaxLetThrough> through{};
+  std::size_t n = 0;
+  for (const Contact& c : slot.coupling.query().contacts()) {
+    if (!(c.gap < -config_.interferenceAtLift_m) || n == through.size()) continue;
+    if (std::find(through.begin(), through.begin() + static_cast<std::ptrdiff_t>(n), c.part) == through.begin() + static_cast<std::ptrdiff_t>(n))
+      through[n++] = c.part;
+  }
+  slot.coupling.letThrough(std::span<const int>(through.data(), n));
+  slot.coupling.reset(pose);
 }
 
 const CouplingOutput* CarriedContact::carry(int part, const grasp::PartPose& dictated, double dt) noexcept {
@@ -92,6 +109,7 @@ const CouplingOutput* CarriedContact::carry(int part, const grasp::PartPose& dic
 void CarriedContact::describe(int part, const CouplingOutput& out) noexcept {
   ++report_.carried;
   const Clearance& c = out.clearance;
+  if (const Slot* s = slotOf(part)) report_.letThrough += static_cast<int>(s->coupling.query().lettingThrough().size());
   if (report_.part >= 0 && !(c.distance_m < report_.clearance_m)) return;
   report_.part = part;
   report_.clearance_m = c.distance_m;

@@ -44,7 +44,13 @@ bool ContactQuery::rebind(ContactModelPtr held) noexcept {
   if (!held || held->shell().size() > static_cast<std::size_t>(config_.maxPoints)) return false;
   held_ = std::move(held);
   reset();
+  letThroughCount_ = 0;
   return true;
+}
+
+void ContactQuery::letThrough(std::span<const int> parts) noexcept {
+  letThroughCount_ = std::min(parts.size(), letThrough_.size());
+  std::copy_n(parts.begin(), letThroughCount_, letThrough_.begin());
 }
 
 ContactQuery::Pair* ContactQuery::pairFor(int part, const ContactScene& scene) noexcept {
@@ -77,10 +83,18 @@ ContactQuery::Pair* ContactQuery::pairFor(int part, const ContactScene& scene) n
   return &p;
 }
 
-// The clearance so far: the smallest gap among the near points answered.
+// The clearance so far: the smallest gap among the near points answered. Where a face
+// rests on a face, its edge points tie with its face points; an edge point names only one
+// of its two faces (maybe the side), so a face point wins a tie: the faces named are the
+// ones that meet.
 void ContactQuery::offer(const Contact& c, const Vec3& otherPoint) noexcept {
-  if (!clearance_.exact || c.gap < clearance_.distance_m)
-    clearance_ = {c.gap, c.part, c.heldFace, c.otherFace, c.point, otherPoint, true};
+  constexpr double kTie_m = 1e-9;
+  const bool edge = c.heldEdge || c.otherEdge;
+  const bool nearer = !clearance_.exact || c.gap < clearance_.distance_m - kTie_m;
+  const bool tieOffFace = clearance_.exact && clearanceOnEdge_ && !edge && c.gap < clearance_.distance_m + kTie_m;
+  if (!nearer && !tieOffFace) return;
+  clearance_ = {c.gap, c.part, c.heldFace, c.otherFace, c.point, otherPoint, true};
+  clearanceOnEdge_ = edge;
 }
 
 // Answers one side of a pair: each point's bound, tangent plane or exact query; the whole
@@ -150,6 +164,7 @@ void ContactQuery::answer(const Side& side, Pair& pair, double range, double mar
       contact.normal = queriedPose.vectorToAbsolute(c.normal);
       contact.heldFace = point.face;
       contact.otherFace = c.face;
+      contact.heldEdge = point.edge != 0;
       otherPoint = contact.point - gap * contact.normal;
     } else {
       // The other part's edge point x, against the carried part (queried): the carried
@@ -188,6 +203,7 @@ std::span<const Contact> ContactQuery::run(const grasp::PartPose& pose, const Co
   stats_ = {};
   contactCount_ = 0;
   clearance_ = {};
+  clearanceOnEdge_ = false;
   farBound_ = kInfinity;
   if (!held_) return {};
   shift_ = havePose_ ? (pose.pointToAbsolute(held_->centre()) - lastPose_.pointToAbsolute(held_->centre())).norm()
@@ -206,8 +222,17 @@ std::span<const Contact> ContactQuery::run(const grasp::PartPose& pose, const Co
   const double range = std::max(margin_m, config_.clearanceRange_m);
 
   const geometry::Aabb box = pose.absoluteBounds(held_->bounds()).inflated(range);
-  const std::size_t total = scene.nearby(box, held, nearby_);
-  const std::size_t count = std::min(total, nearby_.size());
+  std::size_t total = scene.nearby(box, held, nearby_);
+  std::size_t count = std::min(total, nearby_.size());
+  if (letThroughCount_ > 0) {  // the parts it passes through: as if they were not near
+    const auto through = lettingThrough();
+    const auto kept = std::remove_if(nearby_.begin(), nearby_.begin() + static_cast<std::ptrdiff_t>(count), [&](int p) {
+      return std::find(through.begin(), through.end(), p) != through.end();
+    });
+    const auto dropped = static_cast<std::size_t>(nearby_.begin() + static_cast<std::ptrdiff_t>(count) - kept);
+    count -= dropped;
+    total -= dropped;
+  }
   for (std::size_t k = count; k < nearby_.size(); ++k) nearby_[k] = -1;
   stats_.nearby = static_cast<int>(total);
   stats_.overflow = static_cast<int>(total - count);

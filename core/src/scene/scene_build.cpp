@@ -169,8 +169,7 @@ void SceneBuild::work() noexcept {
     const auto start = std::chrono::steady_clock::now();
     geometry::PartModelPtr model;
     geometry::PenetrationModelPtr penetration;
-    contact::ContactModelPtr contact;
-    std::string error, contactError;
+    std::string error;
     try {
       model = load();
       penetration = geometry::makePenetration(model, backend_);
@@ -179,26 +178,15 @@ void SceneBuild::work() noexcept {
     } catch (...) {
       error = "unknown error while building the model";
     }
-    if (penetration && contact_) {
-      try {
-        contact = contact::ContactModel::build(model, penetration, contactOptions_);
-      } catch (const std::exception& e) {
-        contactError = e.what();
-      } catch (...) {
-        contactError = "unknown error while sampling the contact shell";
-      }
-    }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::lock_guard lock(mutex_);
+    std::unique_lock lock(mutex_);
     Model& out = models_[m];
     out.build_s = seconds;
     if (penetration) {
-      out.model = std::move(model);
-      out.penetration = std::move(penetration);
-      out.contact = std::move(contact);
-      out.contactError = std::move(contactError);
+      out.model = model;
+      out.penetration = penetration;
       try {
-        publish(m);
+        publish(m, true);
         out.status = Model::Status::Built;
       } catch (const std::exception& e) {  // a mass the scene refuses (an empty solid...)
         out.status = Model::Status::Failed;
@@ -207,6 +195,33 @@ void SceneBuild::work() noexcept {
     } else {
       out.status = Model::Status::Failed;
       out.error = error;
+    }
+    // The contact shell after the model is out: the hand feels the part's exact surface
+    // seconds sooner (a 1,030-face part's shell takes several), and a shell that fails
+    // costs the part its contact, never its model.
+    if (contact_ && out.status == Model::Status::Built) {
+      lock.unlock();
+      contact::ContactModelPtr shell;
+      std::string why;
+      try {
+        shell = contact::ContactModel::build(model, penetration, contactOptions_);
+      } catch (const std::exception& e) {
+        why = e.what();
+      } catch (...) {
+        why = "unknown error while sampling the contact shell";
+      }
+      lock.lock();
+      Model& built = models_[m];
+      built.contact = std::move(shell);
+      built.contactError = std::move(why);
+      if (built.contact) {
+        try {
+          publish(m, false);
+        } catch (const std::exception& e) {
+          built.contact = nullptr;
+          built.contactError = e.what();
+        }
+      }
     }
     --remaining_;
     --running_;
@@ -219,7 +234,7 @@ void SceneBuild::work() noexcept {
 
 // Every part of the model gets it, with the mass of its own spec (a density may differ
 // between parts of one shape). Under mutex_.
-void SceneBuild::publish(std::size_t m) {
+void SceneBuild::publish(std::size_t m, bool first) {
   const Model& model = models_[m];
   for (const std::size_t part : model.parts) {
     ScenePart p;
@@ -229,7 +244,7 @@ void SceneBuild::publish(std::size_t m) {
     p.mass = model.model->massProperties(sources_[part].mass);
     p.bounds = model.model->bounds();
     for (const ScenePtr& scene : scenes_) scene->publish(part, p);
-    ++exactParts_;
+    if (first) ++exactParts_;
   }
 }
 

@@ -129,6 +129,7 @@ void putContact(const contact::ContactReport& c, hapticgrasp::Tick& t) {
   m.set_part(c.part);
   m.set_carried(c.carried);
   m.set_unmodelled(c.unmodelled);
+  m.set_let_through(c.letThrough);
   m.set_clearance_m(c.clearance_m);
   m.set_clearance_exact(c.clearanceExact);
   m.set_other_part(c.otherPart);
@@ -255,6 +256,7 @@ bool getContact(const hapticgrasp::Tick& t, contact::ContactReport& c) {
   c.part = m.part();
   c.carried = m.carried();
   c.unmodelled = m.unmodelled();
+  c.letThrough = m.let_through();
   c.clearance_m = m.clearance_m();
   c.clearanceExact = m.clearance_exact();
   c.otherPart = m.other_part();

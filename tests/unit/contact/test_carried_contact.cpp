@@ -3,6 +3,8 @@
 // are taken in, slots run out cleanly, and nothing allocates after construction.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "alloc_counter.hpp"
 #include "contact/contact_fixtures.hpp"
 #include "hapticgrasp/contact/carried_contact.hpp"
@@ -84,6 +86,34 @@ TEST(CarriedContact, AShellPublishedLaterIsMet) {
   scene->publish(1, scenePart(plate, {}));  // the plate's exact models came, with its shell
   ASSERT_TRUE(contact.lift(0, {}));
   EXPECT_NEAR(lower(contact, 0.008)->pose.position.z(), -0.005, 5e-5);
+}
+
+// A press fit, or solids that overlap in the model: the cube lifted with its bottom 3 mm into
+// the plate is let through by the plate (else it would be stuck fast), and still stopped
+// by a wall it did not touch.
+TEST(CarriedContact, APartLiftedInInterferenceIsLetThroughByThatPartOnly) {
+  std::vector<grasp::ScenePart> parts;
+  parts.push_back(scenePart(test::boxModel(0, 0, 0, 10, 10, 10), {}));
+  parts.push_back(scenePart(test::boxModel(-20, -20, -2, 50, 50, 5), {}));  // overlaps the cube's bottom
+  parts.push_back(scenePart(test::boxModel(15, -20, -10, 5, 50, 40), {}));  // a wall 5 mm to its +x
+  CarriedContact contact(std::make_shared<const grasp::Scene>(std::move(parts)), config());
+  ASSERT_TRUE(contact.lift(0, {}));
+  const CouplingOutput* out = nullptr;
+  for (int k = 1; k <= 200; ++k) {  // 4 mm down, then 8 mm to +x (down along the wall, friction would hold it)
+    contact.beginTick();
+    const double down = std::min(k, 100) / 100.0, across = std::max(k - 100, 0) / 100.0;
+    out = contact.carry(0, test::poseAt(Vec3(0.008 * across, 0, -0.004 * down)), 5e-4);
+  }
+  ASSERT_NE(out, nullptr);
+  EXPECT_EQ(contact.report().letThrough, 1);
+  EXPECT_NEAR(out->pose.position.x(), 0.005, 5e-5);  // stopped by the wall
+  EXPECT_NEAR(out->pose.position.z(), -0.004, 1e-6);  // through the plate
+  EXPECT_EQ(contact.report().otherPart, 2);
+  contact.putDown(0, out->pose);
+  ASSERT_TRUE(contact.lift(0, test::poseAt(Vec3(0.005, 0, 0.02))));  // lifted clear of both
+  contact.beginTick();
+  contact.carry(0, test::poseAt(Vec3(0.005, 0, 0.02)), 5e-4);
+  EXPECT_EQ(contact.report().letThrough, 0);
 }
 
 TEST(CarriedContact, SlotsRunOutCleanly) {

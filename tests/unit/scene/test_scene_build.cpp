@@ -70,6 +70,29 @@ TEST(SceneBuild, StandInsAtOnceThenEveryDistinctShapeBuiltOnce) {
   }
 }
 
+// With contact, every shape gets its contact shell, shared like its model, published after
+// the model (the exact surface is felt first): two publications a part, exact parts
+// counted once.
+TEST(SceneBuild, ContactShellsFollowTheModelsAndAreShared) {
+  SceneBuild::Options options;
+  options.contact = true;
+  options.contactOptions.maxPoints = 64;
+  SceneBuild build(row(6, 2), options);
+  const ScenePtr scene = build.scene();
+  EXPECT_EQ(scene->part(0).contact, nullptr);  // a stand-in has none
+  ASSERT_TRUE(build.wait(120));
+  const SceneBuild::Progress p = build.progress();
+  EXPECT_EQ(p.exactParts, 6u);
+  EXPECT_EQ(scene->publications(), 12u);
+  for (std::size_t i = 0; i < 6; ++i) {
+    ASSERT_NE(scene->part(i).contact, nullptr) << i;
+    EXPECT_EQ(scene->part(i).contact.get(), scene->part(i % 2).contact.get()) << i;
+    EXPECT_LE(scene->part(i).contact->shell().size(), 64u);
+    EXPECT_EQ(&scene->part(i).contact->part(), scene->part(i).model.get());
+  }
+  for (const SceneBuild::Model& m : build.models()) EXPECT_TRUE(m.contactError.empty()) << m.contactError;
+}
+
 // Each load waits for the test's leave, so that the focus moves between two picks whatever
 // the machine's load: the worker's picks follow the focus as it is at each pick.
 TEST(SceneBuild, BuildsTheShapeNearestTheFocusFirst) {

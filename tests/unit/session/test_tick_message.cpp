@@ -203,6 +203,7 @@ void expectSameRecord(const TickRecord& a, const TickRecord& b) {
   EXPECT_BITS(contact.part);
   EXPECT_BITS(contact.carried);
   EXPECT_BITS(contact.unmodelled);
+  EXPECT_BITS(contact.letThrough);
   EXPECT_BITS(contact.clearance_m);
   EXPECT_BITS(contact.clearanceExact);
   EXPECT_BITS(contact.otherPart);
@@ -261,6 +262,7 @@ TEST(TickMessage, PartToPartContactRoundTripsBitForBit) {
   c.substeps = 2;
   c.queried = 33;
   c.saturated = true;
+  c.letThrough = 2;
   c.passivityEnergy_J = 1e-3;
   c.rotationalPassivityEnergy_J = -2e-9;
   expectSameRecord(r, roundTrip(r));

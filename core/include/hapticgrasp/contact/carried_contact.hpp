@@ -6,7 +6,10 @@
 // tick and where it was put down; this answers where the part may go (it stops at contact
 // and slides) and the wrench the hand feels, and reports the clearance.
 //
-// A part without a contact model (a coarse stand-in whose shape is still being read, a
+// A part lifted where it already interferes with others (a press fit, solids that overlap
+// in the model: common in real assemblies) would be stuck fast; the parts it interferes
+// with at pick-up let it through for that carry (counted in the report), the others stop
+// it. A part without a contact model (a coarse stand-in whose shape is still being read, a
 // shell that failed) is passed through, never refused: carried, it moves as the hand says
 // and the report counts it `unmodelled`; standing, nothing meets it. The scene's model swaps
 // are followed (coarse, then exact), as the grasp methods follow them.
@@ -26,6 +29,7 @@ struct CarriedContactConfig {
   CouplingParameters coupling;
   ContactQueryConfig query;  // query.maxPoints: the largest shell a part may have (the build's budget)
   int slots = 1;             // parts carried with contact at once
+  double interferenceAtLift_m = 1e-6;  // deeper than this at pick-up: the pair lets it through
   // False: carried parts pass through the others (carry() answers nullptr) and only the
   // clearance and interference are reported: what a reviewer who wants to move freely
   // still needs to see.
@@ -65,6 +69,7 @@ class CarriedContact {
   Slot* slotOf(int part) noexcept;
   const Slot* slotOf(int part) const noexcept;
   void takeSwaps() noexcept;
+  void letThroughWhatItInterferes(Slot& slot, const grasp::PartPose& pose) noexcept;
   void describe(int part, const CouplingOutput& out) noexcept;
 
   grasp::ScenePtr scene_;

@@ -20,6 +20,7 @@
 //
 // Everything is preallocated at construction: run() allocates nothing, locks nothing,
 // throws nothing (servo thread).
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -39,6 +40,7 @@ struct Contact {
   int heldFace = 0;            // the carried part's face there (1-based; 0: an edge or vertex foot)
   int otherFace = 0;           // the other part's face there (1-based; 0: an edge or vertex foot)
   bool otherEdge = false;      // found by the other part's sharp-edge point (else the carried part's point)
+  bool heldEdge = false;       // the carried part's point lies on one of its sharp edges
   int key = 0;                 // which point of which pair: stable while the pair stays near
 };
 
@@ -88,6 +90,11 @@ class ContactQuery {
   // Another carried part, in no contact history. False (and nothing changes) when its
   // shell exceeds maxPoints. No allocation: the caches were sized for maxPoints.
   bool rebind(ContactModelPtr held) noexcept;
+  // Parts this query leaves out (at most kMaxLetThrough; the rest of `parts` is dropped):
+  // the carried part passes through them. Replaces the previous list; rebind() clears it.
+  static constexpr int kMaxLetThrough = 16;
+  void letThrough(std::span<const int> parts) noexcept;
+  std::span<const int> lettingThrough() const noexcept { return {letThrough_.data(), letThroughCount_}; }
 
   std::span<const Contact> contacts() const noexcept { return {contacts_.data(), contactCount_}; }  // the last run's
   const Clearance& clearance() const noexcept { return clearance_; }
@@ -150,9 +157,12 @@ class ContactQuery {
   ContactQueryConfig config_;
   std::vector<Pair> pairs_;
   std::vector<int> nearby_;
+  std::array<int, kMaxLetThrough> letThrough_{};
+  std::size_t letThroughCount_ = 0;
   std::vector<Contact> contacts_;
   std::size_t contactCount_ = 0;
   Clearance clearance_;
+  bool clearanceOnEdge_ = false;  // the clearance's pair of points involves an edge point
   ContactQueryStats stats_;
   grasp::PartPose lastPose_;
   bool havePose_ = false;

@@ -13,6 +13,7 @@ struct ContactReport {
   int part = -1;                // the carried part reported on; -1: none carried with contact
   int carried = 0;              // parts carried with contact this tick
   int unmodelled = 0;           // parts carried without a contact model (they pass through)
+  int letThrough = 0;           // parts the carried part already interfered with where it was lifted
   // Clearance to the nearest other part: exact when a shell point came within range of one,
   // else a lower bound (infinite: no part near at all).
   double clearance_m = std::numeric_limits<double>::infinity();

@@ -82,6 +82,7 @@ class VirtualCoupling {
   // the query's maxPoints. No allocation.
   bool rebind(ContactModelPtr held, const grasp::PartPose& pose) noexcept;
   const ContactModel& held() const noexcept { return *held_; }  // bound only
+  void letThrough(std::span<const int> parts) noexcept { query_.letThrough(parts); }
   bool bound() const noexcept { return held_ != nullptr; }
   // One servo tick: the hand dictates `hand` for the part; `held` is the part's index in
   // `scene` (-1: not one of its parts).

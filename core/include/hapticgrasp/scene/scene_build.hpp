@@ -106,7 +106,7 @@ class SceneBuild {
   void work() noexcept;
   long nextModel();  // under mutex_: the waiting model with a loader nearest the focus, -1 if none
   double distance(std::size_t model) const;  // under mutex_: of its nearest part to the focus
-  void publish(std::size_t model);
+  void publish(std::size_t model, bool first);  // first: the model (counts its parts exact); else its contact shell after it
 
   std::vector<PartSource> sources_;
   std::vector<std::size_t> modelOf_;
