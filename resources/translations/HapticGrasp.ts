@@ -9,42 +9,42 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/session.py" line="113"/>
+        <location filename="../../plugin/freecad/HapticGrasp/session.py" line="132"/>
         <source>off</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/session.py" line="115"/>
+        <location filename="../../plugin/freecad/HapticGrasp/session.py" line="134"/>
         <source>error: %s</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/session.py" line="116"/>
+        <location filename="../../plugin/freecad/HapticGrasp/session.py" line="135"/>
         <source>%s, %.1f MB, %d dropped</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="170"/>
+        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="184"/>
         <source>Cannot use %s: %s</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="228"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="229"/>
         <source>Add note</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="247"/>
+        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="262"/>
         <source>Note for the reviewer:</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="490"/>
+        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="522"/>
         <source>Mark graspable</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="490"/>
+        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="522"/>
         <source>Unmark graspable</source>
         <translation type="unfinished"></translation>
     </message>
@@ -124,112 +124,112 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="73"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="74"/>
         <source>No SpaceMouse or HID device attached (plug one in, then reopen this panel).</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="76"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="77"/>
         <source>%d HID device(s) attached, none a SpaceMouse or matched by a layout in &lt;FreeCAD user data&gt;/HapticGrasp/devices/.</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="144"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="145"/>
         <source>Mouse and keyboard: move the mouse to move the hand in the view plane, wheel for depth, hold G to pinch, Esc cancels. Simulated arm: the same keys move the target of a simulated operator who drives the simulated master arm; the grasp feels the arm&apos;s fingertips</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="186"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="187"/>
         <source>%s (not attached)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="141"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="142"/>
         <source>Input:</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="217"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="218"/>
         <source>Start</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="220"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="221"/>
         <source>Stop</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="230"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="231"/>
         <source>A short note for the reviewer, in the recording at this moment, about the part under the hand (N)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="279"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="280"/>
         <source>stopped</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="290"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="291"/>
         <source>%v / %m parts</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="291"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="292"/>
         <source>Cancel</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="313"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="314"/>
         <source>building models</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="319"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="320"/>
         <source>Building %s (%d of %d)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="321"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="322"/>
         <source>Built %d of %d parts</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="330"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="331"/>
         <source>Rebuilding %s (swapped in when no part is held)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="363"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="365"/>
         <source>(fault: %s)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="371"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="373"/>
         <source>(not displayed: input-only device)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="383"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="390"/>
         <source>measuring…</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="393"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="400"/>
         <source>%d of %d parts</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="393"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="400"/>
         <source>%d of %d parts (the others felt as their boxes until built)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="398"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="405"/>
         <source>on</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="398"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="405"/>
         <source>silent (no audio output ready)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -299,12 +299,12 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="61"/>
+        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="67"/>
         <source>Defaults</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="66"/>
+        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="72"/>
         <source>Read when haptics start.</source>
         <translation type="unfinished"></translation>
     </message>
@@ -494,22 +494,22 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="63"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="64"/>
         <source>SpaceMouse, %s</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="64"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="65"/>
         <source>HID layout %s, %s</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="155"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="156"/>
         <source>%s (unavailable)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="383"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="390"/>
         <source>%.0f Hz (measured)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -544,12 +544,12 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="59"/>
+        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="65"/>
         <source>Multi-finger method (SI; the paper's k 800, k_d 800, μ 1)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="57"/>
+        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="63"/>
         <source>Two-finger method (SI; the paper&apos;s K_c 130, B_c 100, K_g 1000, B_g 800)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -564,35 +564,75 @@
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="343"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="344"/>
         <source>SCHED_FIFO, memory locked</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="343"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="344"/>
         <source>SCHED_FIFO, memory not locked</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="347"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="348"/>
         <source>refused: the rate may suffer (tool tip, report view)</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="350"/>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="351"/>
         <source>not asked for (preferences)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/session.py" line="148"/>
+        <source>none: the carried part has no contact shell yet (it passes through)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/session.py" line="150"/>
+        <source>no part near</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/session.py" line="156"/>
+        <source>interference %.3f mm (%s)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/session.py" line="157"/>
+        <source>%.3f mm (%s)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="22"/>
+        <source>Clearance:</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/panel.py" line="385"/>
+        <source>(contact off: parts pass through)</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="55"/>
+        <source>Carried parts meet the others</source>
+        <translation type="unfinished"></translation>
+    </message>
+    <message>
+        <location filename="../../plugin/freecad/HapticGrasp/prefs.py" line="57"/>
+        <source>A carried part stops at the other parts and slides along them (exact surfaces), and the hand feels it; the panel shows the clearance. Off: it passes through them.</source>
         <translation type="unfinished"></translation>
     </message>
 </context>
 <context>
     <name>HapticGrasp_MarkGraspable</name>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="474"/>
+        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="506"/>
         <source>Mark graspable</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="475"/>
+        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="507"/>
         <source>Mark the selected parts graspable (or unmark them); once any part is marked, haptics hand in only the marked parts</source>
         <translation type="unfinished"></translation>
     </message>
@@ -600,12 +640,12 @@
 <context>
     <name>HapticGrasp_Review</name>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="531"/>
+        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="563"/>
         <source>Review a recording…</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="532"/>
+        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="564"/>
         <source>Play a recorded session back on the document&apos;s parts, jump to its events and notes, and apply the pose at any moment (one undo step)</source>
         <translation type="unfinished"></translation>
     </message>
@@ -613,12 +653,12 @@
 <context>
     <name>HapticGrasp_SplitSolids</name>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="505"/>
+        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="537"/>
         <source>Split into solids</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="506"/>
+        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="538"/>
         <source>Make one object per solid of the selected objects (the originals are hidden), so that each solid can be grasped on its own</source>
         <translation type="unfinished"></translation>
     </message>
@@ -626,12 +666,12 @@
 <context>
     <name>HapticGrasp_Start</name>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="444"/>
+        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="476"/>
         <source>Start haptics</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="445"/>
+        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="477"/>
         <source>Start the servo loop and grasp parts with the device</source>
         <translation type="unfinished"></translation>
     </message>
@@ -639,12 +679,12 @@
 <context>
     <name>HapticGrasp_Stop</name>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="458"/>
+        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="490"/>
         <source>Stop haptics</source>
         <translation type="unfinished"></translation>
     </message>
     <message>
-        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="459"/>
+        <location filename="../../plugin/freecad/HapticGrasp/gui.py" line="491"/>
         <source>Stop the servo loop</source>
         <translation type="unfinished"></translation>
     </message>

@@ -315,6 +315,75 @@ class HapticGraspDocument(unittest.TestCase):
             core.part_info("DBRep_DrawableShape\nCASCADE Topology V1, (c) Matra-Datavision\nLocations 3\n")
 
 
+class PartToPartContact(unittest.TestCase):
+    """A 40 mm cube carried down onto a plate 10 mm below it, the hand going 10 mm further:
+    with contact it rests on the plate (one undo step); off, it goes in and the
+    interference is said."""
+
+    def setUp(self):
+        self.doc = App.newDocument("HapticGraspContact")
+        self.doc.UndoMode = 1
+        self.block = self.doc.addObject("Part::Feature", "Block")
+        self.block.Shape = Part.makeBox(40, 40, 40)
+        self.plate = self.doc.addObject("Part::Feature", "Plate")
+        self.plate.Shape = Part.makeBox(200, 200, 10, App.Vector(-80, -80, -20))
+        self.doc.recompute()
+        self.doc.clearUndos()
+        self.session = None
+
+    def tearDown(self):
+        if self.session is not None:
+            self.session.core.stop()
+        App.closeDocument(self.doc.Name)
+
+    def put_down(self, contact):
+        self.session = s = hs.HapticSession(self.doc)
+        self.assertEqual([r.obj.Name for r in s.parts], ["Block", "Plate"])
+        keys, frame = hs.demo_script(self.block, lift_mm=20.0, move_mm=(0.0, 0.0, -20.0))
+        s.use_hand_script(keys, frame)
+        s.start(contact=contact)
+        seen = []
+        run(s, s.core.script_duration() + 0.2, on_tick=lambda snap: seen.append(snap.get("contact")))
+        s.stop()
+        return s, [c for c in seen if c is not None]
+
+    def test_a_part_put_down_onto_another_rests_on_it_in_one_undo_step(self):
+        s, contacts = self.put_down(True)
+        self.assertTrue(s.core.contact)
+        self.assertEqual(s.moves, 1)
+        z = self.block.Placement.Base.z
+        print("put down at z %.4f mm (the plate's top: -10 mm)" % z)
+        self.assertAlmostEqual(z, -10.0, delta=0.05)
+        touching = [c for c in contacts if c["exact"] and c["other_part"] == 1 and c["clearance_mm"] < 0.01]
+        self.assertTrue(touching, contacts[-3:])
+        self.assertGreater(max(c["contact_force_n"] for c in touching), 5.0)
+        self.assertEqual(touching[-1]["held_face"], 5)   # the cube's bottom face (Part.makeBox: Face5)
+        self.assertEqual(self.doc.UndoNames, ["Haptic move Block"])
+        self.assertFalse([m for m in s.messages if "interference" in m], s.messages)
+        self.assertTrue(hs.same_placement(self.plate.Placement, App.Placement(), 1e-12))
+
+    def test_with_contact_off_it_passes_through_and_the_interference_is_said(self):
+        s, contacts = self.put_down(False)
+        self.assertFalse(s.core.contact)
+        z = self.block.Placement.Base.z
+        self.assertAlmostEqual(z, -20.0, delta=0.5)
+        # 10 mm into a 10 mm plate: its points are at most 5 mm from the plate's surface.
+        self.assertTrue(any(c["exact"] and c["clearance_mm"] < -4.0 for c in contacts), contacts[-3:])
+        said = [m for m in s.messages if "put down in interference with Plate" in m]
+        self.assertEqual(len(said), 1, s.messages)
+        self.assertEqual(self.doc.UndoNames, ["Haptic move Block"])
+
+    def test_the_clearance_reads_as_the_panel_shows_it(self):
+        labels = ["Block", "Plate"]
+        near = {"part": 0, "other_part": 1, "exact": True, "clearance_mm": 0.125, "held_face": 5, "other_face": 6}
+        self.assertEqual(hs.contact_text(near, labels), "0.125 mm (Face5 / Plate Face6)")
+        deep = dict(near, clearance_mm=-0.5)
+        self.assertEqual(hs.contact_text(deep, labels), "interference 0.500 mm (Face5 / Plate Face6)")
+        self.assertEqual(hs.contact_text(dict(near, exact=False), labels), "no part near")
+        self.assertIn("no contact shell", hs.contact_text(dict(near, part=-1), labels))
+        self.assertEqual(hs.contact_text(None, labels), "-")
+
+
 class DocumentChangesMidMove(unittest.TestCase):
     """What the user does to the document while a part is held (issue 14): each ends or goes
     on with the session cleanly, leaves the document consistent and raises nothing. The

@@ -149,87 +149,110 @@ ScenePtr SceneBuild::rebase(const std::vector<PartPose>& poses) {
 void SceneBuild::work() noexcept {
   stayInTheBackground(avoidCpu_);
   for (;;) {
-    std::size_t m;
+    long next = -1;
+    std::size_t shell = 0;
     std::function<geometry::PartModelPtr()> load;
     {
       std::unique_lock lock(mutex_);
-      long next = -1;
-      // Wait for a model with its shape; done when none is waiting any more.
+      // Wait for a model with its shape, else a contact shell to build; done when neither
+      // is waiting any more.
       work_.wait(lock, [&] {
         if (cancel_.load(std::memory_order_acquire)) return true;
         next = nextModel();
-        return next >= 0 || remaining_ == running_;
+        return next >= 0 || !shellsPending_.empty() || remaining_ == running_;
       });
-      if (next < 0) break;
-      m = static_cast<std::size_t>(next);
-      models_[m].status = Model::Status::Building;
-      load = loaders_[m];
+      if (cancel_.load(std::memory_order_acquire)) break;
+      if (next >= 0) {
+        models_[static_cast<std::size_t>(next)].status = Model::Status::Building;
+        load = loaders_[static_cast<std::size_t>(next)];
+      } else if (!shellsPending_.empty()) {
+        shell = shellsPending_.front();
+        shellsPending_.erase(shellsPending_.begin());
+      } else {
+        break;
+      }
       ++running_;
     }
-    const auto start = std::chrono::steady_clock::now();
-    geometry::PartModelPtr model;
-    geometry::PenetrationModelPtr penetration;
-    std::string error;
-    try {
-      model = load();
-      penetration = geometry::makePenetration(model, backend_);
-    } catch (const std::exception& e) {
-      error = e.what();
-    } catch (...) {
-      error = "unknown error while building the model";
-    }
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::unique_lock lock(mutex_);
-    Model& out = models_[m];
-    out.build_s = seconds;
-    if (penetration) {
-      out.model = model;
-      out.penetration = penetration;
-      try {
-        publish(m, true);
-        out.status = Model::Status::Built;
-      } catch (const std::exception& e) {  // a mass the scene refuses (an empty solid...)
-        out.status = Model::Status::Failed;
-        out.error = e.what();
-      }
-    } else {
-      out.status = Model::Status::Failed;
-      out.error = error;
-    }
-    // The contact shell after the model is out: the hand feels the part's exact surface
-    // seconds sooner (a 1,030-face part's shell takes several), and a shell that fails
-    // costs the part its contact, never its model.
-    if (contact_ && out.status == Model::Status::Built) {
-      lock.unlock();
-      contact::ContactModelPtr shell;
-      std::string why;
-      try {
-        shell = contact::ContactModel::build(model, penetration, contactOptions_);
-      } catch (const std::exception& e) {
-        why = e.what();
-      } catch (...) {
-        why = "unknown error while sampling the contact shell";
-      }
-      lock.lock();
-      Model& built = models_[m];
-      built.contact = std::move(shell);
-      built.contactError = std::move(why);
-      if (built.contact) {
-        try {
-          publish(m, false);
-        } catch (const std::exception& e) {
-          built.contact = nullptr;
-          built.contactError = e.what();
-        }
-      }
-    }
-    --remaining_;
-    --running_;
+    if (next >= 0) buildModel(static_cast<std::size_t>(next), load);
+    else buildShell(shell);
     done_.notify_all();
     work_.notify_all();  // the others may be done too
   }
   std::lock_guard lock(mutex_);
   done_.notify_all();
+}
+
+void SceneBuild::buildModel(std::size_t m, const std::function<geometry::PartModelPtr()>& load) {
+  const auto start = std::chrono::steady_clock::now();
+  geometry::PartModelPtr model;
+  geometry::PenetrationModelPtr penetration;
+  std::string error;
+  try {
+    model = load();
+    penetration = geometry::makePenetration(model, backend_);
+  } catch (const std::exception& e) {
+    error = e.what();
+  } catch (...) {
+    error = "unknown error while building the model";
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::lock_guard lock(mutex_);
+  Model& out = models_[m];
+  out.build_s = seconds;
+  if (penetration) {
+    out.model = std::move(model);
+    out.penetration = std::move(penetration);
+    try {
+      publish(m, true);
+      out.status = Model::Status::Built;
+    } catch (const std::exception& e) {  // a mass the scene refuses (an empty solid...)
+      out.status = Model::Status::Failed;
+      out.error = e.what();
+    }
+  } else {
+    out.status = Model::Status::Failed;
+    out.error = error;
+  }
+  --running_;
+  // The contact shell once every model with its shape is built: the hand feels each part's
+  // exact surface as soon as without contact (a 1,030-face part's shell takes seconds),
+  // and a shell that fails costs the part its contact, never its model. The model stays
+  // counted in remaining_ until its shell is done.
+  if (contact_ && out.status == Model::Status::Built) shellsPending_.push_back(m);
+  else --remaining_;
+}
+
+void SceneBuild::buildShell(std::size_t m) {
+  geometry::PartModelPtr model;
+  geometry::PenetrationModelPtr penetration;
+  {
+    std::lock_guard lock(mutex_);
+    model = models_[m].model;
+    penetration = models_[m].penetration;
+  }
+  contact::ContactModelPtr shell;
+  std::string why;
+  try {
+    shell = contact::ContactModel::build(model, penetration, contactOptions_);
+  } catch (const std::exception& e) {
+    why = e.what();
+  } catch (...) {
+    why = "unknown error while sampling the contact shell";
+  }
+  std::lock_guard lock(mutex_);
+  Model& built = models_[m];
+  built.contact = std::move(shell);
+  built.contactError = std::move(why);
+  if (built.contact) {
+    try {
+      publish(m, false);
+    } catch (const std::exception& e) {
+      built.contact = nullptr;
+      built.contactError = e.what();
+    }
+  }
+  --remaining_;
+  --running_;
 }
 
 // Every part of the model gets it, with the mass of its own spec (a density may differ

@@ -247,6 +247,7 @@ class _HapticGraspController:
                     for p, f in zip(snap.get("fingertips", [])[2:], snap.get("fingertip_forces", [])[2:])]
             cls.overlay.update(state, session.hand_at(snap.get("time_s", 0.0)), forces, rotation, fault, more,
                                target=session.target)
+            cls.overlay.show_clearance(snap.get("contact"))
 
     @classmethod
     def add_note(cls):

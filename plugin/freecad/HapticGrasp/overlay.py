@@ -8,7 +8,10 @@ scene graph, never document objects (no undo, nothing saved). GUI thread only.
   - the grasp frame: three short lines (x red, y green, z blue) at the fingertips'
     midpoint, turned with the grasped part;
   - with the simulated arm, the operator's target (the mouse hand) as two faint, smaller
-    spheres: the arm's fingertips (the hand the servo loop used) lag and stop at surfaces.
+    spheres: the arm's fingertips (the hand the servo loop used) lag and stop at surfaces;
+  - part-to-part clearance: a line from the carried part to the nearest point of the
+    nearest other part, green while clear, red in contact or interference (hidden when no
+    part is near).
 """
 import FreeCAD as App
 
@@ -27,6 +30,9 @@ ARROW_MM_PER_N = 5.0
 FRAME_LENGTH_MM = 25.0
 EXTRA_FINGERTIPS = 3   # fingertips 2..4 of a multi-finger device, shown only when it has them
 TARGET_RADIUS_MM = 2.5
+CLEAR_COLOUR = (0.1, 0.8, 0.3)
+TOUCH_COLOUR = (0.9, 0.1, 0.1)
+TOUCH_MM = 0.01   # nearer than this: in contact
 
 
 class HapticOverlay:
@@ -91,8 +97,39 @@ class HapticOverlay:
         self.target_switch.addChild(sep)
         self.target_switch.whichChild = coin.SO_SWITCH_NONE
         self.root.addChild(self.target_switch)
+        self._add_clearance()
         self.graph.addChild(self.root)
         self.update("FREE")
+
+    def _add_clearance(self):
+        """The clearance line, in a switch (hidden until a carried part has a near neighbour)."""
+        coin = self.coin
+        self.clearance_switch = coin.SoSwitch()
+        self.clearance_switch.setName(ROOT_NAME + "Clearance")
+        sep = coin.SoSeparator()
+        self.clearance_material = coin.SoMaterial()
+        style = coin.SoDrawStyle()
+        style.lineWidth = 3
+        self.clearance_coords = coin.SoCoordinate3()
+        self.clearance_coords.point.setValues(0, 2, [(0, 0, 0), (0, 0, 0)])
+        line = coin.SoLineSet()
+        line.numVertices.setValue(2)
+        for node in (self.clearance_material, style, self.clearance_coords, line):
+            sep.addChild(node)
+        self.clearance_switch.addChild(sep)
+        self.clearance_switch.whichChild = coin.SO_SWITCH_NONE
+        self.root.addChild(self.clearance_switch)
+
+    def show_clearance(self, contact):
+        """contact: the snapshot's "contact" (None or no part near: hidden)."""
+        if contact is None or contact["part"] < 0 or not contact["exact"]:
+            self.clearance_switch.whichChild = self.coin.SO_SWITCH_NONE
+            return
+        colour = TOUCH_COLOUR if contact["clearance_mm"] < TOUCH_MM else CLEAR_COLOUR
+        self.clearance_material.diffuseColor = colour
+        self.clearance_material.emissiveColor = colour
+        self.clearance_coords.point.setValues(0, 2, [tuple(contact["held_point"]), tuple(contact["other_point"])])
+        self.clearance_switch.whichChild = self.coin.SO_SWITCH_ALL
 
     def _fingertip(self, name):
         """A sphere under a switch: (switch, its translation)."""

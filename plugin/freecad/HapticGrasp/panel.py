@@ -26,6 +26,7 @@ FIELDS = (
     ("index", QT_TRANSLATE_NOOP("HapticGrasp", "Index force:")),
     ("thumb", QT_TRANSLATE_NOOP("HapticGrasp", "Thumb force:")),
     ("grip", QT_TRANSLATE_NOOP("HapticGrasp", "Grasping force:")),
+    ("clearance", QT_TRANSLATE_NOOP("HapticGrasp", "Clearance:")),
     ("rate", QT_TRANSLATE_NOOP("HapticGrasp", "Servo rate:")),
     ("jitter", QT_TRANSLATE_NOOP("HapticGrasp", "Period error p99:")),
     ("realtime", QT_TRANSLATE_NOOP("HapticGrasp", "Real time:")),
@@ -357,6 +358,7 @@ class HapticTaskPanel:
         self.fields[key].setText(text)
 
     def update(self, session, snap, sounds=None):
+        from . import session as hs
         f = self.fields
         fault = snap.get("fault", "none")
         f["device"].setText(session.core.device_name)
@@ -377,6 +379,11 @@ class HapticTaskPanel:
             f["thumb"].setText(translate("HapticGrasp", NOT_EXPOSED))
         grip = snap.get("grasp_force_n")
         f["grip"].setText("%.2f N" % grip if grip is not None else translate("HapticGrasp", NOT_EXPOSED))
+        contact = snap.get("contact")
+        text = hs.contact_text(contact, [p.label for p in session.parts])
+        if not getattr(session.core, "contact", True):
+            text += "  " + translate("HapticGrasp", "(contact off: parts pass through)")
+        f["clearance"].setText(text)
         rate = snap.get("rate_hz")
         if rate is None:
             measured = self.rate.update(snap.get("tick", 0))

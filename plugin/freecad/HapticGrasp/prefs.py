@@ -52,6 +52,12 @@ class HapticGraspPreferences:
                                                         "~/.local/share/HapticGrasp/reviews/). Nothing in the "
                                                         "document changes."))
         methods.addRow(self.record)
+        self.contact = QtGui.QCheckBox(translate("HapticGrasp", "Carried parts meet the others"))
+        self.contact.setObjectName("HapticGrasp_Pref_Contact")
+        self.contact.setToolTip(translate("HapticGrasp", "A carried part stops at the other parts and slides along "
+                                                         "them (exact surfaces), and the hand feels it; the panel "
+                                                         "shows the clearance. Off: it passes through them."))
+        methods.addRow(self.contact)
         layout.addLayout(methods)
         self.spins = {}
         self._add_group(layout, translate("HapticGrasp", "Two-finger method (SI; the paper's K_c 130, B_c 100, "
@@ -95,15 +101,18 @@ class HapticGraspPreferences:
         self._show(hs.default_parameters())
         self._show_method(hs.METHODS[0])
         self.record.setChecked(True)
+        self.contact.setChecked(True)
 
     def loadSettings(self):
         from . import session as hs
         self._show(hs.stored_parameters())
         self._show_method(hs.stored_method())
         self.record.setChecked(hs.stored_record())
+        self.contact.setChecked(hs.stored_contact())
 
     def saveSettings(self):
         from . import session as hs
         hs.store_parameters({key: spin.value() for key, spin in self.spins.items()})
         hs.store_method(self.method.currentData())
         hs.store_record(self.record.isChecked())
+        hs.store_contact(self.contact.isChecked())

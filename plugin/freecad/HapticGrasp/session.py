@@ -65,6 +65,25 @@ def store_record(on):
     App.ParamGet(PARAMETER_PATH).SetBool(RECORD_KEY, bool(on))
 
 
+# Part-to-part contact (the preference "Carried parts meet the others", on by default): a
+# carried part stops at the others and slides along them, and the hand feels it; off, it
+# passes through them.
+CONTACT_KEY = "PartContact"
+# Deeper than this a put-down is said to be in interference: ten times the steady-contact
+# penetration the contact keeps (0.05 mm at most, typically micrometres), so a part resting
+# on another is never reported.
+INTERFERENCE_MM = 0.5
+
+
+def stored_contact():
+    """Whether a carried part meets the others (on when nothing is stored)."""
+    return App.ParamGet(PARAMETER_PATH).GetBool(CONTACT_KEY, True)
+
+
+def store_contact(on):
+    App.ParamGet(PARAMETER_PATH).SetBool(CONTACT_KEY, bool(on))
+
+
 # The servo thread: its rate and whether it asks for real-time scheduling (SCHED_FIFO and
 # locked memory). Without it a busy GUI costs the rate (measured under Xvfb: 820-857 Hz of
 # 1 kHz with 4-5 ms of jitter), so both are on by default.
@@ -115,6 +134,27 @@ def recording_text(status):
         return translate("HapticGrasp", "error: %s") % status["error"]
     return translate("HapticGrasp", "%s, %.1f MB, %d dropped") % (os.path.basename(status["path"]),
                                                                   status["bytes"] / 1e6, status["dropped"])
+
+
+def contact_text(contact, labels):
+    """The task panel's Clearance field, from the snapshot's "contact" (None: nothing carried
+    with contact): the distance from the carried part to the nearest other one and between
+    which faces, "interference" with its depth, or why there is none to show. labels: the
+    parts' labels, in scene order."""
+    translate = App.Qt.translate
+    if contact is None:
+        return "-"
+    if contact["part"] < 0:
+        return translate("HapticGrasp", "none: the carried part has no contact shell yet (it passes through)")
+    if not contact["exact"]:
+        return translate("HapticGrasp", "no part near")
+    other = contact["other_part"]
+    name = labels[other] if 0 <= other < len(labels) else "?"
+    faces = "Face%d / %s Face%d" % (contact["held_face"], name, contact["other_face"]) \
+        if contact["held_face"] > 0 and contact["other_face"] > 0 else name
+    if contact["clearance_mm"] < 0:
+        return translate("HapticGrasp", "interference %.3f mm (%s)") % (-contact["clearance_mm"], faces)
+    return translate("HapticGrasp", "%.3f mm (%s)") % (contact["clearance_mm"], faces)
 
 
 def default_parameters():
@@ -632,6 +672,7 @@ class HapticSession:
         self.original = None      # its object's own placement before the manipulation (PartRef.placement())
         self.frame = None         # its PartRef.frame(): the placements around it, fixed meanwhile
         self.moves = 0            # committed manipulations
+        self.last_contact = None  # the snapshot's "contact" while a part was last carried
         self.aborted = 0
         self.closed = False       # the document was closed under the session (it stopped)
         self.halted = False       # a part was deleted under the session: it stopped, no more writes
@@ -924,12 +965,13 @@ class HapticSession:
         return tuple(place(mix(a[i], b[i])) for i in (1, 2, 3))
 
     # --- servo thread -----------------------------------------------------------------
-    def start(self, rate_hz=None, realtime=None, parameters=None, method=None, record=None):
-        """Starts the servo thread with the rate, real-time request, force parameters and
-        grasp method of the preferences (or those given: `parameters` a dict in SI). A bad
-        value raises ValueError naming the key. record: None follows the preference "Record
-        sessions" (recording_path()), False records nothing, a str is the file to record
-        to. Real time asked for and refused is said in the report view, with the fix."""
+    def start(self, rate_hz=None, realtime=None, parameters=None, method=None, record=None, contact=None):
+        """Starts the servo thread with the rate, real-time request, force parameters,
+        grasp method and part-to-part contact of the preferences (or those given:
+        `parameters` a dict in SI). A bad value raises ValueError naming the key. record:
+        None follows the preference "Record sessions" (recording_path()), False records
+        nothing, a str is the file to record to. Real time asked for and refused is said in
+        the report view, with the fix."""
         stored_rate, stored_realtime = stored_servo()
         rate_hz = stored_rate if rate_hz is None else rate_hz
         realtime = stored_realtime if realtime is None else realtime
@@ -942,6 +984,7 @@ class HapticSession:
         self.parameters = stored_parameters() if parameters is None else dict(parameters)
         self.core.set_parameters(self.parameters)
         self.core.set_method(stored_method() if method is None else method)
+        self.core.set_contact(stored_contact() if contact is None else contact)
         self._record_to(stored_record() if record is None else record)
         if self.scene:
             self.core.start_scene(self._scene_requests(), rate_hz, realtime)
@@ -1139,9 +1182,13 @@ class HapticSession:
         self.fault = "none"
         state, grasped = snap["state"], snap["grasped"]
         events = set(snap["event_names"])
+        contact = snap.get("contact")
+        if contact is not None and contact["part"] >= 0:
+            self.last_contact = contact
         if self.active is not None:
             self._apply(snap)
             if state != "MANIPULATE" or grasped != self.active or "release" in events:
+                self._say_interference()
                 self._commit()
         if self.active is None and state == "MANIPULATE" and 0 <= grasped < len(self.parts):
             self._begin(grasped)
@@ -1311,6 +1358,17 @@ class HapticSession:
         placement = before.inverse().multiply(to_placement(snap["placements"][self.active])).multiply(after.inverse())
         if not same_placement(placement, ref.placement()):
             ref.set_placement(placement)
+
+    def _say_interference(self):
+        """A part put down where it collides (contact off, or a part without its contact
+        shell yet): what it is in interference with, and how deep, in the report view. The
+        last clearance the GUI saw while it was carried (at most one GUI tick old)."""
+        c, self.last_contact = self.last_contact, None
+        if c is None or c["part"] != self.active or not c["exact"] or c["clearance_mm"] > -INTERFERENCE_MM:
+            return
+        other = self.parts[c["other_part"]].label if 0 <= c["other_part"] < len(self.parts) else "?"
+        _warn(self.messages, "%s put down in interference with %s, %.3f mm deep (its Face%d, Face%d of %s)"
+              % (self.parts[self.active].label, other, -c["clearance_mm"], c["held_face"], c["other_face"], other))
 
     def _commit(self):
         self.doc.commitTransaction()

@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "hapticgrasp/contact/carried_contact.hpp"
+#include "hapticgrasp/contact/contact_model.hpp"
 #include "hapticgrasp/geometry/backends.hpp"
 #include "hapticgrasp/geometry/model_cache.hpp"
 #include "hapticgrasp/grasp/grasp_state.hpp"
@@ -42,13 +44,39 @@ PartInfo describe(const geometry::PartModel& part, const geometry::MassSpec& mas
   return info;
 }
 
+namespace {
+
+// Part-to-part contact as the workbench has it: the shell's defaults, and caches sized for them.
+contact::ContactModelOptions contactModelOptions() { return {}; }
+
+contact::CarriedContactConfig contactConfig() {
+  contact::CarriedContactConfig c;
+  c.query.maxPoints = contactModelOptions().maxPoints;  // every shell fits; the caches no larger
+  return c;
+}
+
+// A part's contact shell; one that fails leaves the part without contact (others pass
+// through it), said in its warnings, never without its model.
+contact::ContactModelPtr contactShell(const grasp::ScenePart& part, std::vector<std::string>& warnings) {
+  try {
+    return contact::ContactModel::build(part.model, part.penetration, contactModelOptions());
+  } catch (const std::exception& e) {
+    warnings.push_back(std::string("no part-to-part contact: its contact shell failed: ") + e.what());
+    return nullptr;
+  }
+}
+
+}  // namespace
+
 BuiltPart buildPart(const PartRequest& request) {
   const grasp::PartPose pose = toPose(request.placement);
   auto model = loadPart(request.brep, request.name);
   BuiltPart built{grasp::makeScenePart(model, request.mass, pose), {}};
   built.info = describe(*model, request.mass, *built.part.penetration);
+  built.part.contact = contactShell(built.part, built.info.warnings);
   return built;
 }
+
 
 // --- ModelBuild -------------------------------------------------------------------------
 
@@ -497,10 +525,18 @@ grasp::multi_finger::MultiFingerSceneParams Session::multiFingerParams() const {
   return params;
 }
 
+void Session::setContact(bool on) {
+  if (loop_) throw std::logic_error("part-to-part contact must be chosen before start()");
+  contact_ = on;
+}
+
+// Contact off still reports the clearance and any interference: the part passes through.
 std::unique_ptr<servo::GraspEngine> Session::makeEngine(const grasp::ScenePtr& scene) const {
+  contact::CarriedContactConfig contact = contactConfig();
+  contact.constrain = contact_;
   if (method_ == "multi-finger")
-    return std::make_unique<servo::MultiFingerEngine>(scene, device_->spec().fingertips, multiFingerParams());
-  return std::make_unique<servo::TwoFingerEngine>(scene, parameters_);
+    return std::make_unique<servo::MultiFingerEngine>(scene, device_->spec().fingertips, multiFingerParams(), contact);
+  return std::make_unique<servo::TwoFingerEngine>(scene, parameters_, contact);
 }
 
 std::vector<grasp::PartPose> Session::initialPoses() const {
@@ -541,6 +577,8 @@ void Session::startScene(const std::vector<SceneRequest>& requests, double rate_
   }
   grasp::SceneBuild::Options options;
   options.workers = workers;
+  options.contact = true;  // every shell, whether the session couples or not (setContact)
+  options.contactOptions = contactModelOptions();
   const int cpu = realtime ? servo::servoCpu() : -1;  // a real-time servo keeps a CPU to itself
   options.avoidCpu = cpu;
   build_ = std::make_unique<grasp::SceneBuild>(std::move(sources), options);
@@ -653,6 +691,32 @@ void Session::stop() noexcept {
   endRecording();  // after the loop: nothing more enters the ring, the drop count is final
 }
 
+namespace {
+
+// The report in FreeCAD's units: what the panel and the overlay show.
+SessionSnapshot::Contact contactView(const contact::ContactReport& r) {
+  SessionSnapshot::Contact c;
+  c.carried = r.part >= 0;
+  c.part = r.part;
+  c.otherPart = r.otherPart;
+  c.exact = r.clearanceExact;
+  c.clearance_mm = toMillimetres(r.clearance_m);
+  c.heldFace = r.heldFace;
+  c.otherFace = r.otherFace;
+  c.heldPoint_mm = toMillimetres(r.heldPoint);
+  c.otherPoint_mm = toMillimetres(r.otherPoint);
+  c.penetration_mm = toMillimetres(r.penetration_m);
+  c.contactForce_N = r.contactForce_N.norm();
+  c.active = r.active;
+  c.lagging = r.lagging;
+  c.saturated = r.saturated;
+  c.unmodelled = r.unmodelled;
+  c.letThrough = r.letThrough;
+  return c;
+}
+
+}  // namespace
+
 SessionSnapshot Session::snapshot() {
   SessionSnapshot out;
   out.placements.reserve(parts_.size());
@@ -699,6 +763,7 @@ SessionSnapshot Session::snapshot() {
   }
   out.rate_hz = s.timing.achieved_hz;
   out.jitter_us = s.timing.periodError.p99_us;
+  out.contact = contactView(s.contact);
   return out;
 }
 
@@ -745,6 +810,10 @@ session::SessionDescription Session::describeSession(const grasp::ScenePtr& scen
   d.device = device_->spec();
   d.twoFinger = parameters_;
   d.multiFinger = multiFingerParams();
+  d.contact = true;
+  d.contactModel = contactModelOptions();
+  d.contactConfig = contactConfig();
+  d.contactConfig.constrain = contact_;
   d.scenePublications = scene->publications();  // before describing: a swap meanwhile is recorded again
   d.parts = session::describeParts(*scene);
   for (std::size_t i = 0; i < d.parts.size(); ++i) d.parts[i].name = partName(i);  // stand-ins have no model name

@@ -170,6 +170,21 @@ struct SessionSnapshot {
   // order: what answers the fingertips, next to where they are.
   std::vector<std::pair<std::string, std::string>> backends;
   std::size_t exactParts = 0;  // parts answered by their own model (scene mode: the rest by their box)
+  // Part-to-part contact of the carried part (contact/contact_report.hpp), FreeCAD's units.
+  struct Contact {
+    bool carried = false;                 // a part is carried with contact
+    int part = -1, otherPart = -1;        // the carried part, and the nearest other one
+    double clearance_mm = 0;              // to it; < 0: interference, by that depth
+    bool exact = false;                   // false: no part within range (clearance is a lower bound)
+    int heldFace = 0, otherFace = 0;      // 1-based, FreeCAD's FaceN; 0: an edge or vertex
+    std::array<double, 3> heldPoint_mm{}, otherPoint_mm{};
+    double penetration_mm = 0;            // deepest this tick
+    double contactForce_N = 0;            // |what the other parts do to it|
+    int active = 0;                       // contacts pushing
+    bool lagging = false, saturated = false;
+    int unmodelled = 0;                   // parts carried without a contact shell (they pass through)
+    int letThrough = 0;                   // parts it interfered with where lifted (it passes through them)
+  } contact;
 };
 
 // How the servo thread runs: what it asked for and got, and its timing so far (refreshed
@@ -270,6 +285,12 @@ class Session {
   // device reads). Throws std::invalid_argument for another name.
   void setMethod(const std::string& method);
   const std::string& method() const { return method_; }
+  // Before start(): whether a carried part meets the others (stops at contact, slides;
+  // the hand feels it) or passes through them (its clearance and any interference are
+  // still reported). On by default; every part's contact shell is built with its model
+  // either way.
+  void setContact(bool on);
+  bool contact() const { return contact_; }
 
   void start(double rate_hz = 2000, bool realtime = true);
 
@@ -341,6 +362,7 @@ class Session {
   std::uint64_t tickOffset_ = 0;
   std::shared_ptr<PlacedDevice> hid_;  // SpaceMouse or HID layout, opened when chosen
   std::string method_ = "two-finger";
+  bool contact_ = true;
   std::unique_ptr<servo::GraspEngine> makeEngine(const grasp::ScenePtr& scene) const;
   std::unique_ptr<servo::ServoLoop> loop_;
   std::string realtimeAdvice_;  // set when the loop asked for SCHED_FIFO and was refused

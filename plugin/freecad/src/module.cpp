@@ -338,6 +338,10 @@ PYBIND11_MODULE(_hapticgrasp, m) {
            "Before start(): 'two-finger' (default) or 'multi-finger' (the resultant-force method, as many "
            "fingertips as the device reads).")
       .def_property_readonly("method", &freecad::Session::method)
+      .def("set_contact", &freecad::Session::setContact, py::arg("on"),
+           "Before start(): whether a carried part meets the others (stops at contact and slides, the hand "
+           "feels it; the default) or passes through them.")
+      .def_property_readonly("contact", &freecad::Session::contact)
       .def("start", &freecad::Session::start, py::arg("rate_hz") = 2000.0, py::arg("realtime") = true,
            py::call_guard<py::gil_scoped_release>())
       .def(
@@ -505,6 +509,28 @@ PYBIND11_MODULE(_hapticgrasp, m) {
             for (const auto& [backend, reason] : snap.backends) backends.append(py::make_tuple(backend, reason));
             d["backends"] = backends;
             d["exact_parts"] = snap.exactParts;
+            const freecad::SessionSnapshot::Contact& c = snap.contact;
+            if (c.carried || c.unmodelled > 0) {
+              py::dict k;
+              k["part"] = c.part;
+              k["other_part"] = c.otherPart;
+              k["clearance_mm"] = c.clearance_mm;
+              k["exact"] = c.exact;
+              k["held_face"] = c.heldFace;
+              k["other_face"] = c.otherFace;
+              k["held_point"] = mm(c.heldPoint_mm);
+              k["other_point"] = mm(c.otherPoint_mm);
+              k["penetration_mm"] = c.penetration_mm;
+              k["contact_force_n"] = c.contactForce_N;
+              k["active"] = c.active;
+              k["lagging"] = c.lagging;
+              k["saturated"] = c.saturated;
+              k["unmodelled"] = c.unmodelled;
+              k["let_through"] = c.letThrough;
+              d["contact"] = k;
+            } else {
+              d["contact"] = py::none();
+            }
             return d;
           },
           "state, grasped part, events since the previous snapshot, watchdog fault, every part's "

@@ -8,6 +8,8 @@
 // (Scene::publish: the servo picks it up without a lock). The next model a worker takes is
 // the one whose nearest part is nearest the focus (setFocus: the hand), so the part under
 // the hand is exact first, and the order follows the hand as it moves.
+// With contact, each model's contact shell comes once every model whose shape has come is
+// built (the exact surfaces are felt first), published after its model.
 //
 // Workers run at SCHED_IDLE, off the servo thread's CPU when it is pinned (avoidCpu): they
 // take only what the servo thread and the GUI leave.
@@ -106,6 +108,8 @@ class SceneBuild {
   void work() noexcept;
   long nextModel();  // under mutex_: the waiting model with a loader nearest the focus, -1 if none
   double distance(std::size_t model) const;  // under mutex_: of its nearest part to the focus
+  void buildModel(std::size_t model, const std::function<geometry::PartModelPtr()>& load);
+  void buildShell(std::size_t model);
   void publish(std::size_t model, bool first);  // first: the model (counts its parts exact); else its contact shell after it
 
   std::vector<PartSource> sources_;
@@ -119,6 +123,7 @@ class SceneBuild {
   std::size_t remaining_ = 0, exactParts_ = 0, running_ = 0;
   geometry::Backend backend_;
   bool contact_ = false;
+  std::vector<std::size_t> shellsPending_;  // models built whose contact shell is to come
   contact::ContactModelOptions contactOptions_;
   std::atomic<bool> cancel_{false};
   int avoidCpu_ = -1;
