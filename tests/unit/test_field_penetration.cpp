@@ -18,6 +18,7 @@
 #include <thread>
 #include <vector>
 
+#include "hapticgrasp/sanitized.hpp"
 #include "hapticgrasp/geometry/backends.hpp"
 
 // Every operator new of this process is counted while the current thread has counting
@@ -286,7 +287,13 @@ TEST_F(FieldPenetrationTest, QueryTime) {
   RecordProperty("query_us", std::to_string(perQuery_us));
   std::printf("field query (sphere, 1 mm voxels, random shell points): %.3f us\n", perQuery_us);
   EXPECT_TRUE(std::isfinite(sum));
-  EXPECT_LT(perQuery_us, 20.0);  // the notes measured ~1 us; 20 means something is badly wrong
+  // The notes measured ~1 us; 20 means something is badly wrong (a sanitizer's own
+  // slowdown, up to 20x under ThreadSanitizer, is not).
+#ifdef HG_SANITIZED
+  EXPECT_LT(perQuery_us, 400.0);
+#else
+  EXPECT_LT(perQuery_us, 20.0);
+#endif
 }
 
 TEST(FieldBuild, ProgressIsMonotoneAndReachesOne) {

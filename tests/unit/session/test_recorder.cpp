@@ -14,6 +14,7 @@
 
 #include "alloc_counter.hpp"
 #include "session/stepped_session.hpp"
+#include "hapticgrasp/sanitized.hpp"
 #include "hapticgrasp/servo/servo_bench.hpp"
 #include "hapticgrasp/servo/scripted_hand_device.hpp"
 #include "hapticgrasp/servo/servo_loop.hpp"
@@ -52,7 +53,14 @@ TEST(Recorder, KeepsEveryTickOfTheRealThreadAndAllocatesNothingOnIt) {
   EXPECT_EQ(info.droppedRecords, 0u);
   // The viewers' channels at about 100 Hz, not at the servo's rate.
   const double seconds = info.duration_s;
+  // Under a sanitizer the writer thread runs several times slower and its 100 Hz clock
+  // slips: only "far below the servo's rate" is asked then.
+#ifdef HG_SANITIZED
+  EXPECT_LT(static_cast<double>(info.topics.at(std::string(kHandSceneTopic))), 200 * seconds + 10);
+  EXPECT_GT(info.topics.at(std::string(kHandSceneTopic)), 0u);
+#else
   EXPECT_NEAR(static_cast<double>(info.topics.at(std::string(kHandSceneTopic))), 100 * seconds, 10 + 5 * seconds);
+#endif
   EXPECT_EQ(info.topics.at(std::string(kPartSceneTopic)), 1u);
   EXPECT_GE(info.topics.at(std::string(kEventTopic)), 2u);  // at least a grasp and a lift
   EXPECT_EQ(info.description.parts.size(), 1u);
