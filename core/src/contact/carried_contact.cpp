@@ -98,9 +98,10 @@ const CouplingOutput* CarriedContact::carry(int part, const grasp::PartPose& dic
     return nullptr;
   }
   const CouplingOutput& out = s->coupling.step(dictated, dt, contactScene_, part);
-  // Another carried part meets this one where it is now (slots > 1 only: it costs the
-  // others' caches of it).
-  if (slots_.size() > 1) contactScene_.setPose(static_cast<std::size_t>(part), out.pose);
+  // Another carried part meets this one where it is now: only while another is carried,
+  // as the move costs the others' caches of it.
+  const auto carried = std::count_if(slots_.begin(), slots_.end(), [](const Slot& k) { return k.part >= 0; });
+  if (carried > 1) contactScene_.setPose(static_cast<std::size_t>(part), out.pose);
   describe(part, out);
   return &out;
 }
