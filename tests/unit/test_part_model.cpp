@@ -219,6 +219,17 @@ TEST(PartModelBadInput, WordForANumberInBrepText) {
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5.0);
 }
 
+// A cylinder whose bottom circle has an empty parameter range on the side face (a flipped
+// byte, found by fuzz_brep): ShapeFix's classifier reduced a parameter of 1e100 by one period
+// at a time, forever. The part is now given to a robust back end unhealed, saying why.
+TEST(PartModelBadInput, EmptyPcurveRangeIsNotHealed) {
+  const fs::path path = fs::path(HG_TEST_DATA_DIR) / "../fuzz/corpus/brep/timeout_empty_pcurve_range.brep";
+  const PartModelPtr part = PartModel::fromFile(path, LengthUnit::Millimetre);
+  EXPECT_NE(part->backendChoice().backend, Backend::Exact);
+  EXPECT_THAT(part->backendChoice().reason,
+              HasSubstr("edge 3 has an empty parameter range on face 1 (not healable)"));
+}
+
 TEST(PartModelBadInput, MissingFile) {
   expectGeometryError([] { PartModel::fromFile(tempDir() / "no_such_part.brep", LengthUnit::Millimetre); },
                       "no such file");

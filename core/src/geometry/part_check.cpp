@@ -218,7 +218,10 @@ PartCheck checkPart(const TopoDS_Shape& solids, const PartLoadOptions& options, 
     // ShapeFix may grow tolerances up to a ten-thousandth of the part's size to close what
     // it repairs: tolerance-level, as the files of other systems are.
     const double diagonal = diagonalOf(solids);
-    const TopoDS_Shape healed = healWithShapeFix(solids, Precision::Confusion(), std::max(1e-4 * diagonal, 1e-6));
+    const std::string notHealable = unhealable(solids);
+    const TopoDS_Shape healed = notHealable.empty()
+                                    ? healWithShapeFix(solids, Precision::Confusion(), std::max(1e-4 * diagonal, 1e-6))
+                                    : solids;
     Findings again;
     const bool usable = !healed.IsSame(solids) && closedSolids(healed) &&
                         (again = findDefects(healed, options)).defect.empty();
@@ -228,7 +231,7 @@ PartCheck checkPart(const TopoDS_Shape& solids, const PartLoadOptions& options, 
       out.solids = healed;
       found = again;
     } else {
-      out.choice = robustBackend(found.defect);
+      out.choice = robustBackend(notHealable.empty() ? found.defect : found.defect + "; " + notHealable);
     }
   }
   if (found.unmeshed > 0)
