@@ -34,11 +34,13 @@
 #include <utility>
 #include <vector>
 
+#include "hapticgrasp/geometry/occt_faults.hpp"
 #include "part_check.hpp"
 #include "primitive_recognition.hpp"
 #include "shape_healing.hpp"
 #include "shape_names.hpp"
 #include "shape_topology.hpp"
+#include "step_references.hpp"
 
 namespace hg::geometry {
 namespace {
@@ -147,7 +149,18 @@ std::string lowerExtension(const std::filesystem::path& path) {
   return ext;
 }
 
+std::string readText(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  if (!in && !in.eof()) throw GeometryError("could not read " + path.string());
+  return text;
+}
+
 TopoDS_Shape readStep(const std::filesystem::path& path) {
+  // Before OCCT reads it: references in a circle or nested too deep overflow its reader's
+  // stack (step_references.hpp).
+  if (const std::string problem = stepReferenceProblem(readText(path)); !problem.empty())
+    throw GeometryError("STEP file could not be read: " + problem + ": " + path.string());
   STEPControl_Reader reader;
   if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
     throw GeometryError("STEP file could not be read: " + path.string());
@@ -387,6 +400,7 @@ TopoDS_Shape PartModel::readFile(const std::filesystem::path& path, LengthUnit& 
   if (!std::filesystem::is_regular_file(path)) throw GeometryError("no such file: " + path.string());
   if (std::filesystem::file_size(path) == 0) throw GeometryError("empty file: " + path.string());
   const std::string ext = lowerExtension(path);
+  const FaultStack overflowReachesTheHandler;  // outlives the catch below
   try {
     OCC_CATCH_SIGNALS  // a fault in the STEP reader becomes a Standard_Failure (occt_faults.hpp)
     if (ext == ".step" || ext == ".stp") {
@@ -394,10 +408,7 @@ TopoDS_Shape PartModel::readFile(const std::filesystem::path& path, LengthUnit& 
       return readStep(path);
     }
     if (ext == ".brep" || ext == ".brp") {
-      std::ifstream in(path, std::ios::binary);
-      std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-      if (!in && !in.eof()) throw GeometryError("could not read " + path.string());
-      return readBrep(std::move(text), "BREP file " + path.string());
+      return readBrep(readText(path), "BREP file " + path.string());
     }
   } catch (const Standard_Failure& e) {
     throw GeometryError("could not read " + path.string() + ": " + e.GetMessageString());

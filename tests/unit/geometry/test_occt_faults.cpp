@@ -47,6 +47,54 @@ TEST(OcctFaults, ABusErrorBecomesAStandardFailure) {
   EXPECT_THAT(faultMessage(SIGBUS), HasSubstr("SIGBUS"));
 }
 
+// A recursion that never ends, as OCCT's STEP reader did on an ORIENTED_EDGE that was its
+// own edge element: each frame keeps a little of the stack, so no compiler turns it into a
+// loop.
+volatile bool keepRecursing = true;  // always true: the compiler cannot see that it is
+int recurseForever(int depth) {
+  volatile char frame[256];
+  frame[depth % sizeof frame] = static_cast<char>(depth);
+  return keepRecursing ? recurseForever(depth + 1) + frame[0] : 0;
+}
+
+TEST(OcctFaults, AStackOverflowOnAThreadWithAFaultStackBecomesAStandardFailure) {
+  catchOcctFaults();
+#if defined(HG_SANITIZED) && !defined(__SANITIZE_THREAD__)
+  __lsan::ScopedDisabler faultLeavesItsFramesBehind;  // as below
+#endif
+  const FaultStack handlerHasAStack;
+  std::string message = "no exception";
+  try {
+    OCC_CATCH_SIGNALS
+    recurseForever(0);
+  } catch (const Standard_Failure& e) {
+    message = e.GetMessageString();
+  }
+  EXPECT_THAT(message, HasSubstr("SIGSEGV"));
+  // And the thread's stack works as before: a fault after the overflow is caught too.
+  EXPECT_THAT(faultMessage(SIGSEGV), HasSubstr("SIGSEGV"));
+}
+
+// A damaged STEP file fuzz_step found: OCCT's reader, recovering from its errors, made an
+// oriented edge refer to itself (the text has no such circle: step_references cannot see
+// it) and recursed until the stack ran out. The reader's fault stack turns that into one
+// error.
+TEST(OcctFaults, AStepFileThatOverflowsTheReadersStackIsRefused) {
+  catchOcctFaults();
+#if defined(HG_SANITIZED) && !defined(__SANITIZE_THREAD__)
+  __lsan::ScopedDisabler faultLeavesItsFramesBehind;  // as below
+#endif
+  try {
+    PartModel::fromFile(std::string(HG_TEST_DATA_DIR) + "/../fuzz/corpus/step/crash_oriented_edge_circle.step",
+                        LengthUnit::Millimetre);
+    ADD_FAILURE() << "loaded";
+  } catch (const GeometryError& e) {
+    // OCCT names this fault "System Signal received, check interrupt".
+    EXPECT_THAT(e.what(), HasSubstr("could not read "));
+    EXPECT_THAT(e.what(), HasSubstr("crash_oriented_edge_circle.step: System Signal received"));
+  }
+}
+
 // A part whose BRepCheck faults at address 0 (fuzz_brep; the input is in its corpus). The
 // fault was caught in PartModel::load, past the checks' frames: their future was lost and,
 // with `parallel`, the crossing search went on reading a shape whose frame was gone. Now

@@ -7,6 +7,9 @@
 //
 // Only a process that owns its signal handlers may call this: the command line and the
 // tests. FreeCAD owns its own; the workbench never calls it.
+#include <signal.h>
+
+#include <memory>
 
 namespace hg::geometry {
 
@@ -14,6 +17,26 @@ namespace hg::geometry {
 // enabling floating-point traps (NaN and infinity stay values, as the geometry code expects).
 // SIGINT, SIGHUP and SIGQUIT keep the handlers they had: OCCT's would swallow Ctrl-C.
 // Once per process, from its main thread, before any other thread is started.
+// The handlers for SIGSEGV and SIGBUS run on a thread's FaultStack when it has one.
 void catchOcctFaults();
+
+// While it lives, the calling thread has a stack of its own for signal handlers. A recursion
+// inside OCCT that runs out of the thread's stack then still reaches OCCT's handler, and
+// becomes a Standard_Failure under OCC_CATCH_SIGNALS like any other fault; without it, the
+// handler itself cannot run and the process dies (fuzz_step found STEP files that send the
+// reader's ORIENTED_EDGE into endless recursion). The part readers keep one. It changes
+// nothing in a process without catchOcctFaults' handlers (FreeCAD's).
+class FaultStack {
+ public:
+  FaultStack();
+  ~FaultStack();
+  FaultStack(const FaultStack&) = delete;
+  FaultStack& operator=(const FaultStack&) = delete;
+
+ private:
+  std::unique_ptr<char[]> memory_;
+  stack_t previous_{};
+  bool installed_ = false;
+};
 
 }  // namespace hg::geometry
