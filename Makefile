@@ -39,14 +39,16 @@ bench: build
 
 # libFuzzer over every loader (README: Fuzzing): a clang build of its own, instrumented
 # with ASan and UBSan (only what the targets need is built), then each target for
-# FUZZ_SECONDS over a copy of its seeds (tests/fuzz/corpus). Not part of `make test`.
+# FUZZ_SECONDS over a copy of its seeds (tests/fuzz/corpus), FUZZ_OPTIONS added to
+# libFuzzer's (.ci/run: -seed=1). Not part of `make test`; CI runs it after.
 FUZZ_BUILD   ?= build-fuzz
 FUZZ_SECONDS ?= 30
+FUZZ_OPTIONS ?=
 fuzz: deps
 	cmake -S . -B $(FUZZ_BUILD) -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++ -DHG_FUZZ=ON \
 	  -DHG_FUZZ_SECONDS=$(FUZZ_SECONDS) -DPython_EXECUTABLE=/usr/bin/python3
 	cmake --build $(FUZZ_BUILD) -j $(JOBS) --target fuzz_targets
-	cd $(FUZZ_BUILD) && ctest -L fuzz --output-on-failure -j $(JOBS)
+	cd $(FUZZ_BUILD) && FUZZ_OPTIONS="$(FUZZ_OPTIONS)" ctest -L fuzz --output-on-failure -j $(JOBS)
 
 clean:
 	rm -rf $(BUILD) $(FUZZ_BUILD)
