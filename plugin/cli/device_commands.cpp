@@ -52,6 +52,9 @@ int benchServo(servo::ServoBenchOptions options, bool json) {
               static_cast<unsigned long long>(r.overruns), r.allocations_in_loop,
               static_cast<unsigned long long>(r.grasps), static_cast<unsigned long long>(r.lifts),
               static_cast<unsigned long long>(r.watchdog_trips));
+  if (r.contact_polls > 0)
+    std::printf("  contact with the floor at %llu of the 10 ms looks, deepest %.1f um\n",
+                static_cast<unsigned long long>(r.contact_polls), r.contact_max_penetration_m * 1e6);
   if (r.recording.enabled)
     std::printf("  recorded %s: %llu ticks, %llu messages, %.2f MB, %llu records dropped%s%s\n", r.recording.path.c_str(),
                 static_cast<unsigned long long>(r.recording.ticks), static_cast<unsigned long long>(r.recording.messages),
@@ -113,6 +116,8 @@ int soak(servo::SoakOptions options, bool json) {
               r.max_period_err_us, r.max_period_err_unstalled_us, static_cast<unsigned long long>(r.grasps),
               static_cast<unsigned long long>(r.lifts), static_cast<unsigned long long>(r.watchdog_trips),
               static_cast<unsigned long long>(r.watchdog_clears));
+  std::printf("  contact with a floor in %d segments: pressed on it at %llu of the 10 ms looks, deepest %.1f um\n",
+              r.contact_segments, static_cast<unsigned long long>(r.contact_polls), r.contact_max_penetration_m * 1e6);
   std::printf("  recorded %.1f MB, %llu records dropped%s%s\n%s\n", r.recorded_bytes / 1e6,
               static_cast<unsigned long long>(r.dropped_records), r.recording_error.empty() ? "" : "; error: ",
               r.recording_error.c_str(), r.passed() ? "soak: passed" : "soak: FAILED");

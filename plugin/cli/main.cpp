@@ -227,6 +227,8 @@ int main(int argc, char** argv) {
                          "Fingertips for the multi-finger method (the arm has 2; the scripted hand 1-5)")
       ->capture_default_str()
       ->check(CLI::Range(1, 5));
+  servoBench->add_flag("--contact", servoOptions.contact,
+                       "A floor plate under the part and part-to-part contact: the put-down meets the floor");
   servoBench->add_flag("--json", json, "Print JSON");
 
   CLI::App* sceneBench = bench->add_subcommand(
@@ -275,6 +277,7 @@ int main(int argc, char** argv) {
   recordCmd->add_option("--rate", recordOptions.rate_hz, "Servo rate, Hz (50-10000)")->capture_default_str();
   recordCmd->add_option("--seconds", recordOptions.seconds, "How long to record")->capture_default_str();
   recordCmd->add_option("-o,--output", recordOptions.recordPath, "The recording to write (.mcap)")->required();
+  recordCmd->add_flag("--contact", recordOptions.contact, "A floor plate under the part and part-to-part contact");
   recordCmd->add_flag("--json", json, "Print JSON");
   servoBench->add_option("--record", servoOptions.recordPath, "Record the benchmark's session to this MCAP file");
 

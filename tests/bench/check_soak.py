@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """A short soak (the CI run of `hapticgrasp soak`): the real servo thread at 2 kHz over the
-sample parts with both methods, a wandering hand and injected faults, recorded. Checks the
-JSON contract and what the soak promises: every fault of every kind injected and handled,
-no NaN or unbounded output, no servo-thread allocation, the recordings written without a drop.
+sample parts with both methods, a wandering hand and injected faults, recorded, a floor and
+part-to-part contact in every other pair of segments. Checks the JSON contract and what the
+soak promises: every fault of every kind injected and handled, no NaN or unbounded output,
+no servo-thread allocation, the recordings written without a drop, the part kept out of
+the floor.
 Memory growth is printed, not judged here (a 30 s run has no warm round to grow from; the
 60-minute figure is README's).
     check_soak.py HAPTICGRASP [MINUTES]
@@ -30,6 +32,11 @@ for kind, f in r["faults"].items():
         failures.append("%s: %d of %d handled" % (kind, f["handled"], f["injected"]))
 if r["segments"] < 4 or r["grasps"] == 0 or r["lifts"] == 0:
     failures.append("the hand did not grasp and lift through every part and method")
+contact = r["contact"]
+if contact["segments"] < 2:
+    failures.append("part-to-part contact in %d segments, fewer than 2" % contact["segments"])
+if not 0 <= contact["max_penetration_m"] < 1e-4:
+    failures.append("the part went %g m into the floor" % contact["max_penetration_m"])
 if r["ticks"] < 0.8 * 2000 * 60 * float(minutes):
     failures.append("ticks %d, fewer than 80%% of the rate" % r["ticks"])
 if r["recording"]["bytes"] == 0 or r["recording"]["error"]:

@@ -1,5 +1,6 @@
 #include "hapticgrasp/servo/servo_bench.hpp"
 
+#include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <gp_Ax2.hxx>
 
@@ -12,6 +13,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "hapticgrasp/contact/contact_model.hpp"
 #include "hapticgrasp/device/simulated_operator.hpp"
 #include "hapticgrasp/geometry/sample_parts.hpp"
 #include "hapticgrasp/grasp/grasp_state.hpp"
@@ -274,6 +276,25 @@ BenchSetup scriptedSetup(const geometry::PartModelPtr& model, const geometry::Ma
   return setup;
 }
 
+// The bench's part with its contact shell, standing on a 5 mm floor plate 20 mm wider all
+// round (the scene as the workbench builds it with part-to-part contact on): the scripted
+// put-down brings the part back to where it stood, onto the floor.
+grasp::ScenePtr withFloor(const grasp::Scene& scene) {
+  constexpr double kMm = 1e-3, kMargin = 20 * kMm, kThickness = 5 * kMm;
+  grasp::ScenePart part = scene.part(0);
+  part.contact = contact::ContactModel::build(part.model, part.penetration);
+  const geometry::Aabb box = part.model->bounds();
+  const Vec3 lo = box.min + part.initialPose.position, hi = box.max + part.initialPose.position;
+  const Vec3 corner = (Vec3(lo.x() - kMargin, lo.y() - kMargin, lo.z() - kThickness)) / kMm;
+  const Vec3 size = (Vec3(hi.x() - lo.x() + 2 * kMargin, hi.y() - lo.y() + 2 * kMargin, kThickness)) / kMm;
+  const auto plate = geometry::PartModel::fromShape(
+      BRepPrimAPI_MakeBox(gp_Pnt(corner.x(), corner.y(), corner.z()), size.x(), size.y(), size.z()).Shape(),
+      geometry::LengthUnit::Millimetre, "floor");
+  grasp::ScenePart floor = grasp::makeScenePart(plate, geometry::MassSpec::mass(1.0), grasp::PartPose{});
+  floor.contact = contact::ContactModel::build(floor.model, floor.penetration);
+  return std::make_shared<const grasp::Scene>(std::vector<grasp::ScenePart>{std::move(part), std::move(floor)});
+}
+
 // The session as a recording describes it: what replay needs to rebuild the same loop.
 session::SessionDescription describe(const ServoBenchOptions& o, const BenchSetup& setup, int fingers) {
   session::SessionDescription d;
@@ -286,6 +307,7 @@ session::SessionDescription describe(const ServoBenchOptions& o, const BenchSetu
   d.device = setup.device->spec();
   d.scenePublications = setup.scene->publications();  // before describing: a swap meanwhile is recorded again
   d.parts = session::describeParts(*setup.scene);
+  d.contact = o.contact;  // the shells with the default ContactModelOptions, as withFloor builds them
   return d;
 }
 
@@ -365,19 +387,25 @@ ServoBenchResult runServoBench(const ServoBenchOptions& options) {
 
   const geometry::Backend backend = geometry::parseBackend(options.backend);
   const geometry::SamplePart sample = geometry::findPart(options.part);
-  const bool paperCylinder =
-      !multiFinger && options.device == "scripted" && options.part == "cylinder" && backend == geometry::Backend::Auto;
+  const bool paperCylinder = !multiFinger && !options.contact && options.device == "scripted" &&
+                             options.part == "cylinder" && backend == geometry::Backend::Auto;
   const geometry::PartModelPtr model =
       paperCylinder ? geometry::PartModelPtr{} : geometry::PartModel::fromFile(sample.file, sample.unit);
   BenchSetup setup = options.device == "arm" ? armSetup(model, sample.mass, backend)
                                              : scriptedSetup(model, sample.mass, backend, paperCylinder,
                                                              multiFinger ? fingers : 0);
   if (options.wrapDevice) setup.device = options.wrapDevice(setup.device);
+  std::optional<contact::CarriedContactConfig> contact;
+  if (options.contact) {
+    setup.scene = withFloor(*setup.scene);
+    contact.emplace();
+  }
   std::unique_ptr<GraspEngine> engine;
   if (multiFinger)
-    engine = std::make_unique<MultiFingerEngine>(setup.scene, fingers);
+    engine = std::make_unique<MultiFingerEngine>(setup.scene, fingers, grasp::multi_finger::MultiFingerSceneParams{},
+                                                 contact);
   else
-    engine = std::make_unique<TwoFingerEngine>(setup.scene);
+    engine = std::make_unique<TwoFingerEngine>(setup.scene, grasp::GraspParameters{}, contact);
   ServoLoop loop(setup.device, std::move(engine), config);
   std::unique_ptr<session::Recorder> recorder;
   if (!options.recordPath.empty()) {
@@ -390,6 +418,8 @@ ServoBenchResult runServoBench(const ServoBenchOptions& options) {
   const auto end = start + std::chrono::duration<double>(seconds);
   ServoSnapshot snapshot;
   bool armed = true;
+  std::uint64_t contactPolls = 0;
+  double contactPenetration_m = 0;
   while (std::chrono::steady_clock::now() < end) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
     if (options.poll) options.poll(*setup.scene, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
@@ -401,11 +431,20 @@ ServoBenchResult runServoBench(const ServoBenchOptions& options) {
       armed = false;
     }
     if (t < setup.rearmBelow) armed = true;
+    if (options.contact) {
+      loop.read(snapshot);
+      if (snapshot.contact.active) {
+        ++contactPolls;
+        contactPenetration_m = std::max(contactPenetration_m, snapshot.contact.penetration_m);
+      }
+    }
   }
   loop.stop();
   loop.read(snapshot);
 
   ServoBenchResult r;
+  r.contact_polls = contactPolls;
+  r.contact_max_penetration_m = contactPenetration_m;
   if (recorder) {
     recorder->stop();
     const session::Recorder::Status st = recorder->status();
@@ -457,7 +496,9 @@ std::string toJson(const ServoBenchResult& r, int indent) {
                             {"lifts", r.lifts},
                             {"watchdog_trips", r.watchdog_trips},
                             {"method", r.method},
-                            {"fingers", r.fingers}};
+                            {"fingers", r.fingers},
+                            {"contact_polls", r.contact_polls},
+                            {"contact_max_penetration_m", r.contact_max_penetration_m}};
   nlohmann::json out = j;
   if (r.recording.enabled)
     out["recording"] = {{"path", r.recording.path},         {"dropped_records", r.recording.droppedRecords},

@@ -69,6 +69,8 @@ void add(SoakResult& r, const ServoBenchResult& b, const device::FaultReport& f)
   r.lifts += b.lifts;
   r.watchdog_trips += b.watchdog_trips;
   r.watchdog_clears += b.watchdog_clears;
+  r.contact_polls += b.contact_polls;
+  r.contact_max_penetration_m = std::max(r.contact_max_penetration_m, b.contact_max_penetration_m);
   r.recorded_bytes += b.recording.bytes;
   r.dropped_records += b.recording.droppedRecords;
   if (r.recording_error.empty()) r.recording_error = b.recording.error;
@@ -113,6 +115,8 @@ SoakResult runSoak(const SoakOptions& o) {
     b.method = s % 2 == 0 ? "two-finger" : "multi-finger";
     b.fingers = s % 2 == 0 ? 2 : 3;
     b.allocationCounter = o.allocationCounter;
+    b.contact = (s / 2) % 2 == 1;  // segments 2, 3 (block), 6, 7 (cylinder), 10, 11 (loft), ...
+    r.contact_segments += b.contact ? 1 : 0;
     if (o.record) b.recordPath = (dir / ("segment-" + std::to_string(s) + ".mcap")).string();
     std::shared_ptr<device::FaultInjectingDevice> faults;
     const std::uint64_t wanderSeed = random();
@@ -179,6 +183,8 @@ std::string toJson(const SoakResult& r, int indent) {
                             {"lifts", r.lifts},
                             {"watchdog_trips", r.watchdog_trips},
                             {"watchdog_clears", r.watchdog_clears},
+                            {"contact", {{"segments", r.contact_segments}, {"polls", r.contact_polls},
+                                         {"max_penetration_m", r.contact_max_penetration_m}}},
                             {"recording", {{"bytes", r.recorded_bytes}, {"dropped_records", r.dropped_records},
                                            {"error", r.recording_error}}},
                             {"scheduler", r.scheduler},

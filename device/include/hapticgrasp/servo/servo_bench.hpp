@@ -48,6 +48,9 @@ struct ServoBenchOptions {
   int fingers = 2;                // fingertips of the multi-finger method (1-5; the arm has 2)
   AllocationCounter allocationCounter = nullptr;
   std::string recordPath;         // non-empty: record the session there (MCAP, session/recorder.hpp)
+  // A floor plate the part stands on, and part-to-part contact as the workbench has it
+  // (contact/carried_contact.hpp): the scripted put-down sets the part back onto the floor.
+  bool contact = false;
   // For the soak (servo/soak.hpp): the device the loop gets, made from the bench's own (unset:
   // the bench's), and a call every 10 ms from the bench's own thread with the scene and the
   // seconds since the loop started (the soak swaps a model there).
@@ -87,6 +90,10 @@ struct ServoBenchResult {
   std::uint64_t lifts = 0;      // kLift events
   std::uint64_t watchdog_trips = 0;
   std::uint64_t watchdog_clears = 0;  // kWatchdogClear events: good samples resumed
+  // With `contact`: the bench's 10 ms looks at the snapshot that found the part coupled to the
+  // floor, and the deepest interference any of them reported.
+  std::uint64_t contact_polls = 0;
+  double contact_max_penetration_m = 0;
   RecordingResult recording;
 };
 

@@ -46,6 +46,12 @@ struct SoakResult {
   double max_period_err_unstalled_us = 0;  // the tick after each stall left out
   double achieved_hz_min = 0;
   std::uint64_t grasps = 0, lifts = 0, watchdog_trips = 0, watchdog_clears = 0;
+  // Part-to-part contact (a floor under the part) in every other pair of segments, so that
+  // in two rounds each part meets it with both methods: the segments, the 10 ms looks that
+  // found the part pressed on the floor, and the deepest interference then.
+  int contact_segments = 0;
+  std::uint64_t contact_polls = 0;
+  double contact_max_penetration_m = 0;
   std::uint64_t recorded_bytes = 0, dropped_records = 0;
   std::string recording_error;  // the first, if any
   std::string scheduler;
