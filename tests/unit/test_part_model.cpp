@@ -230,6 +230,15 @@ TEST(PartModelBadInput, EmptyPcurveRangeIsNotHealed) {
               HasSubstr("edge 3 has an empty parameter range on face 1 (not healable)"));
 }
 
+// A torus whose seam runs on [0, 6.1e15] (a digit lost, found by fuzz_brep): every OCCT
+// algorithm that brings a parameter into the period one period at a time (ShapeFix's
+// classifier, then the bounding box) never ended. The loader refuses it first.
+TEST(PartModelBadInput, ACurveThatRunsRoundAFaceIsRefused) {
+  const fs::path path = fs::path(HG_TEST_DATA_DIR) / "../fuzz/corpus/brep/timeout_pcurve_beyond_periods.brep";
+  expectGeometryError([&] { PartModel::fromFile(path, LengthUnit::Millimetre); },
+                      "the part's geometry is damaged: edge 2 runs more than 1000 times round on face 1");
+}
+
 TEST(PartModelBadInput, MissingFile) {
   expectGeometryError([] { PartModel::fromFile(tempDir() / "no_such_part.brep", LengthUnit::Millimetre); },
                       "no such file");

@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "hapticgrasp/geometry/occt_faults.hpp"
+#include "curve_on_face.hpp"
 #include "part_check.hpp"
 #include "primitive_recognition.hpp"
 #include "shape_healing.hpp"
@@ -437,6 +438,9 @@ PartModelPtr PartModel::load(const TopoDS_Shape& input, LengthUnit unit, std::st
   try {
     OCC_CATCH_SIGNALS  // damaged geometry can fault the checks and integrals too
     const Clock::time_point checkStart = Clock::now();
+    // Before any OCCT algorithm meets it: one that would not end (curve_on_face.hpp).
+    if (const std::string damage = runawayCurveOnFace(input); !damage.empty())
+      throw GeometryError("the part's geometry is damaged: " + damage);
     OutwardSolids outward = outwardSolids(closedSolidsOf(input, s, part->warnings_), part->warnings_);
     PartCheck check = checkPart(outward.shape, options, s);
     if (!check.solids.IsSame(outward.shape)) outward = outwardSolids(check.solids, part->warnings_);  // healed

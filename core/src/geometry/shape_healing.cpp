@@ -3,9 +3,6 @@
 #include <BRepBuilderAPI_MakeSolid.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
 #include <BRep_Builder.hxx>
-#include <BRep_Tool.hxx>
-#include <Geom2d_Curve.hxx>
-#include <Precision.hxx>
 #include <ShapeExtend_Status.hxx>
 #include <ShapeFix_Shape.hxx>
 #include <ShapeFix_Wire.hxx>
@@ -13,13 +10,9 @@
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
-#include <TopoDS_Edge.hxx>
-#include <TopoDS_Face.hxx>
 #include <TopoDS_Shell.hxx>
 
-#include <cmath>
-
-#include "shape_names.hpp"
+#include "curve_on_face.hpp"
 #include "shape_topology.hpp"
 
 namespace hg::geometry {
@@ -44,17 +37,9 @@ TopoDS_Shape healWithShapeFix(const TopoDS_Shape& shape, double precision, doubl
 }
 
 std::string unhealable(const TopoDS_Shape& shape) {
-  for (TopExp_Explorer f(shape, TopAbs_FACE); f.More(); f.Next()) {
-    const TopoDS_Face& face = TopoDS::Face(f.Current());
-    for (TopExp_Explorer e(face, TopAbs_EDGE); e.More(); e.Next()) {
-      const TopoDS_Edge& edge = TopoDS::Edge(e.Current());
-      double first = 0, last = 0;
-      if (BRep_Tool::CurveOnSurface(edge, face, first, last).IsNull()) continue;  // ShapeFix makes one
-      if (std::isfinite(first) && std::isfinite(last) && last - first > Precision::PConfusion()) continue;
-      return subShapeName(shape, edge) + " has an empty parameter range on " + subShapeName(shape, face);
-    }
-  }
-  return "";
+  return firstCurveOnFace(shape, [](const CurveOnFace& c) -> std::string {
+    return c.emptyRange() ? "has an empty parameter range" : "";
+  });
 }
 
 TopoDS_Shape sewIntoSolids(const TopoDS_Shape& shape, double tolerance, int& freeEdges) {

@@ -13,11 +13,11 @@ namespace hg::geometry {
 // units). Returns the input itself when ShapeFix fails or finds nothing to do.
 TopoDS_Shape healWithShapeFix(const TopoDS_Shape& shape, double precision, double maxTolerance);
 
-// Why ShapeFix must not be run on `shape`, or "" if it may. OCCT's repair classifies points
-// of each face, and an edge whose curve on a face has an empty or non-finite parameter
-// range sends that classification into an endless loop (a parameter of 1e100 reduced by
-// one period at a time: BRepTopAdaptor_FClass2d, found by fuzz_brep). No file a CAD system
-// writes has one; such a part goes to a robust back end unhealed.
+// Why ShapeFix must not be run on `shape`, or "" if it may: an edge whose curve on a face
+// has an empty or non-finite parameter range. ShapeFix's classifier then looks for a point
+// of the face 1e100 away and brings it into the surface's period one period at a time
+// (BRepTopAdaptor_FClass2d), forever (found by fuzz_brep). No file a CAD system writes has
+// one; such a part goes to a robust back end unhealed.
 std::string unhealable(const TopoDS_Shape& shape);
 
 // BRepBuilderAPI_Sewing of all the faces of `shape` within `tolerance` (shape units): the

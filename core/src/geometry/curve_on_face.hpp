@@ -1,0 +1,41 @@
+#pragma once
+// The curves of a shape's edges on its faces (pcurves), looked at for the parameter ranges
+// that OCCT's own algorithms do not survive. Damaged files carry them (found by fuzz_brep);
+// no CAD system writes them.
+#include <Geom2d_Curve.hxx>
+#include <Geom_Surface.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Face.hxx>
+#include <TopoDS_Shape.hxx>
+
+#include <functional>
+#include <string>
+
+namespace hg::geometry {
+
+// One edge's curve on one face, and its range.
+struct CurveOnFace {
+  TopoDS_Edge edge;
+  TopoDS_Face face;
+  Handle(Geom2d_Curve) curve;  // never null here: edges without one are skipped (ShapeFix makes one)
+  double first = 0, last = 0;
+
+  bool emptyRange() const;
+  // More than kMaxPeriods times round a periodic direction of the face's surface. OCCT brings
+  // a parameter into the period by subtracting one period at a time (classification, bounds,
+  // meshing): beyond 2^53 periods that never ends, and a thousand is more than any real
+  // face winds.
+  bool runsRound() const;
+};
+inline constexpr double kMaxPeriods = 1000;
+
+// The first of the shape's curves on faces for which `why` says something, as "edge 3 <why>
+// on face 1"; "" if none. OCCT failing to evaluate one is itself an answer ("cannot be
+// evaluated").
+std::string firstCurveOnFace(const TopoDS_Shape& shape, const std::function<std::string(const CurveOnFace&)>& why);
+
+// Why OCCT's algorithms cannot be run on this shape at all, or "": a curve on a face that
+// runs round (the loader refuses such a part: meshing or bounding it would not end either).
+std::string runawayCurveOnFace(const TopoDS_Shape& shape);
+
+}  // namespace hg::geometry

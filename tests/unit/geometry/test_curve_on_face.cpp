@@ -1,0 +1,53 @@
+// Curves on faces with the parameter ranges OCCT's algorithms do not survive: the two
+// damaged parts fuzz_brep found are named, real parts pass.
+#include <gtest/gtest.h>
+
+#include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRepPrimAPI_MakeTorus.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Builder.hxx>
+
+#include <filesystem>
+#include <string>
+
+#include "geometry/curve_on_face.hpp"
+
+namespace hg::geometry {
+namespace {
+
+namespace fs = std::filesystem;
+
+TopoDS_Shape readSeed(const std::string& name) {
+  TopoDS_Shape shape;
+  BRep_Builder builder;
+  const fs::path path = fs::path(HG_TEST_DATA_DIR) / "../fuzz/corpus/brep" / name;
+  EXPECT_TRUE(BRepTools::Read(shape, path.c_str(), builder)) << path;
+  return shape;
+}
+
+std::string emptyRanges(const TopoDS_Shape& shape) {
+  return firstCurveOnFace(shape, [](const CurveOnFace& c) { return c.emptyRange() ? "is empty" : ""; });
+}
+
+TEST(CurveOnFace, RealShapesHaveNeither) {
+  for (const TopoDS_Shape& shape : {BRepPrimAPI_MakeCylinder(50, 400).Shape(), BRepPrimAPI_MakeTorus(30, 10).Shape()}) {
+    EXPECT_EQ(emptyRanges(shape), "");
+    EXPECT_EQ(runawayCurveOnFace(shape), "");
+  }
+}
+
+// The bottom circle of a cylinder on [0, 0] on the side face (a flipped byte).
+TEST(CurveOnFace, AnEmptyRangeIsNamed) {
+  const TopoDS_Shape shape = readSeed("timeout_empty_pcurve_range.brep");
+  EXPECT_EQ(emptyRanges(shape), "edge 3 is empty on face 1");
+  EXPECT_EQ(runawayCurveOnFace(shape), "");  // empty is not round: the part still loads (mesh)
+}
+
+// A seam on a torus on [0, 6.1e15] (a digit lost): 1e15 times round.
+TEST(CurveOnFace, ACurveThatRunsRoundAPeriodicFaceIsNamed) {
+  const TopoDS_Shape shape = readSeed("timeout_pcurve_beyond_periods.brep");
+  EXPECT_EQ(runawayCurveOnFace(shape), "edge 2 runs more than 1000 times round on face 1");
+}
+
+}  // namespace
+}  // namespace hg::geometry
