@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "hapticgrasp/install_layout.hpp"
 #include "hapticgrasp/geometry/backends.hpp"
 #include "hapticgrasp/geometry/isolated_load.hpp"
 #include "hapticgrasp/geometry/occt_faults.hpp"
@@ -181,6 +182,7 @@ int demo() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  hg::runningImage();  // where this binary is, fixed now: a later rebuild or upgrade cannot move its data
   CLI::App app{"HapticGrasp: feel and handle the parts of a CAD model with a haptic arm"};
   app.require_subcommand(1);
 

@@ -9,7 +9,7 @@
 namespace hg {
 
 // The executable or shared module that holds this code (the CLI, or _hapticgrasp.so inside
-// FreeCAD's process), as the dynamic loader mapped it.
+// FreeCAD's process), as the dynamic loader mapped it when this was first asked.
 std::filesystem::path runningImage();
 
 // The installation prefix of the running image: its nearest ancestor folder (at most six levels

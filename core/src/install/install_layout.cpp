@@ -39,15 +39,21 @@ bool inBuildTree(const fs::path& image) {
 }  // namespace
 
 fs::path runningImage() {
-  // dladdr1's link map names the shared object; the main program's has an empty name, and
-  // its path is /proc/self/exe (dladdr would give argv[0], which may be a bare name).
-  Dl_info info{};
-  link_map* map = nullptr;
-  if (dladdr1(reinterpret_cast<void*>(&runningImage), &info, reinterpret_cast<void**>(&map),
-              RTLD_DL_LINKMAP) != 0 &&
-      map && map->l_name && map->l_name[0] != '\0')
-    return canonicalOrEmpty(map->l_name);
-  return canonicalOrEmpty("/proc/self/exe");
+  // Once, at the first call: a binary replaced while it runs (rebuilt, or upgraded by apt
+  // under an hour's soak) leaves /proc/self/exe pointing at a deleted file, and the data
+  // would be looked for elsewhere from then on ("no sample part catalogue", mid-soak).
+  static const fs::path image = [] {
+    // dladdr1's link map names the shared object; the main program's has an empty name, and
+    // its path is /proc/self/exe (dladdr would give argv[0], which may be a bare name).
+    Dl_info info{};
+    link_map* map = nullptr;
+    if (dladdr1(reinterpret_cast<void*>(&runningImage), &info, reinterpret_cast<void**>(&map),
+                RTLD_DL_LINKMAP) != 0 &&
+        map && map->l_name && map->l_name[0] != '\0')
+      return canonicalOrEmpty(map->l_name);
+    return canonicalOrEmpty("/proc/self/exe");
+  }();
+  return image;
 }
 
 std::optional<fs::path> installPrefix() {
