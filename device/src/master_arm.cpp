@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 
 #include <kdl/tree.hpp>
 #include <kdl_parser/kdl_parser.hpp>
@@ -26,6 +27,34 @@ int jointIndex(const std::string& name) {
   for (int j = 0; j < kArmJoints; ++j)
     if (name == kJointNames[j]) return j;
   return -1;
+}
+
+// The offset of the first byte that is not part of well-formed UTF-8 (RFC 3629: no overlong
+// forms, surrogates or code points past U+10FFFF), or npos. urdfdom's TinyXML 2.6 skips a
+// multi-byte character by its lead byte alone: a lead byte near the end of the text carried
+// it past the terminating NUL, reading beyond the buffer (found by fuzz_urdf). Written by
+// hand: none of the project's libraries offers the check by itself.
+std::size_t firstNonUtf8(std::string_view text) {
+  std::size_t i = 0;
+  while (i < text.size()) {
+    const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(text[k]); };
+    const unsigned char lead = byte(i);
+    int length = 0;
+    unsigned char low = 0x80, high = 0xBF;  // the second byte's range
+    if (lead == 0) return i;  // a NUL ends TinyXML's text early: not text either
+    if (lead < 0x80) length = 1;
+    else if (lead >= 0xC2 && lead <= 0xDF) length = 2;
+    else if (lead >= 0xE0 && lead <= 0xEF) length = 3, low = lead == 0xE0 ? 0xA0 : 0x80, high = lead == 0xED ? 0x9F : 0xBF;
+    else if (lead >= 0xF0 && lead <= 0xF4) length = 4, low = lead == 0xF0 ? 0x90 : 0x80, high = lead == 0xF4 ? 0x8F : 0xBF;
+    else return i;
+    if (i + length > text.size()) return i;
+    for (int k = 1; k < length; ++k) {
+      const unsigned char b = byte(i + k);
+      if (b < (k == 1 ? low : 0x80) || b > (k == 1 ? high : 0xBF)) return i;
+    }
+    i += length;
+  }
+  return std::string_view::npos;
 }
 
 // Column of each movable chain joint in theta; -1 past the chain's joints.
@@ -78,6 +107,8 @@ std::shared_ptr<const ArmModel> ArmModel::fromString(const std::string& urdfXml)
 }
 
 std::shared_ptr<const ArmModel> ArmModel::build(const std::string& xml, const std::string& what) {
+  if (const std::size_t bad = firstNonUtf8(xml); bad != std::string_view::npos)
+    throw std::runtime_error("master arm: " + what + " is not UTF-8 text (byte " + std::to_string(bad) + ")");
   const urdf::ModelInterfaceSharedPtr urdfModel = urdf::parseURDF(xml);
   const UrdfModelRelease release{urdfModel};
   if (!urdfModel) throw std::runtime_error("master arm: " + what + " is not a valid URDF");

@@ -80,6 +80,32 @@ TEST(MasterArm, JointLoopIsRefused) {
   EXPECT_THROW(ArmModel::fromString(urdf), std::runtime_error);
 }
 
+// Text that is not UTF-8 is refused before urdfdom reads it: TinyXML 2.6 skips a character
+// by its lead byte alone, so lead bytes at the end of the text (fuzz_urdf: a run of 0xF4)
+// carried it past the terminating NUL and read beyond the buffer. Well-formed multi-byte
+// text passes.
+TEST(MasterArm, TextThatIsNotUtf8IsRefused) {
+  std::ifstream in(ArmModel::defaultUrdfPath());
+  const std::string urdf((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t end = urdf.rfind("</robot>");
+  ASSERT_NE(end, std::string::npos);
+  const auto with = [&](const std::string& bytes) { return urdf.substr(0, end) + bytes + urdf.substr(end); };
+  EXPECT_NO_THROW(ArmModel::fromString(with("<!-- Gr\xC3\xB6\xC3\x9F""e \xE2\x86\x92 \xF0\x9D\x9C\x83 -->")));
+  for (const std::string& bad : {std::string("\xF4\xF4\xF4"), std::string("\x80"), std::string("\xC0\xAF"),
+                                 std::string("\xED\xA0\x80"), std::string("\xF4\x90\x80\x80"),
+                                 std::string("\xE2\x82"), std::string(1, '\0')}) {
+    SCOPED_TRACE(testing::PrintToString(bad));
+    try {
+      ArmModel::fromString(with(bad));
+      ADD_FAILURE() << "accepted";
+    } catch (const std::runtime_error& e) {
+      EXPECT_EQ(std::string(e.what()), "master arm: URDF string is not UTF-8 text (byte " + std::to_string(end) + ")");
+    }
+  }
+  const std::string found = std::string(HG_TEST_DATA_DIR) + "/../fuzz/corpus/urdf/crash_utf8_lead_bytes_at_end.urdf";
+  EXPECT_THROW(ArmModel::fromFile(found), std::runtime_error);
+}
+
 TEST(MasterArm, ForwardKinematicsZeroPose) {
   MasterArm arm(model());
   ArmPose p;
