@@ -237,6 +237,11 @@ TEST(PartModelBadInput, ACurveThatRunsRoundAFaceIsRefused) {
   const fs::path path = fs::path(HG_TEST_DATA_DIR) / "../fuzz/corpus/brep/timeout_pcurve_beyond_periods.brep";
   expectGeometryError([&] { PartModel::fromFile(path, LengthUnit::Millimetre); },
                       "the part's geometry is damaged: edge 2 runs more than 1000 times round on face 1");
+  // And a sphere's seam far off its latitudes: BRepMesh never finished the face.
+  expectGeometryError([] {
+    PartModel::fromFile(fs::path(HG_TEST_DATA_DIR) / "../fuzz/corpus/brep/timeout_sphere_seam_runs_off.brep",
+                        LengthUnit::Millimetre);
+  }, "the part's geometry is damaged: edge 2 runs 1000 times its size off on face 1");
 }
 
 TEST(PartModelBadInput, MissingFile) {

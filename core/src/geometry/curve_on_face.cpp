@@ -7,6 +7,9 @@
 #include <TopoDS.hxx>
 #include <gp_Pnt2d.hxx>
 
+#include <Geom_Curve.hxx>
+
+#include <algorithm>
 #include <cmath>
 
 #include "shape_names.hpp"
@@ -14,9 +17,15 @@
 namespace hg::geometry {
 namespace {
 
-bool beyondPeriods(double p, double first, double period) {
-  return period > 0 && !(std::abs(p - first) <= kMaxPeriods * period);  // NaN is beyond
+// How far p lies from a direction's parameters [lo, hi], in periods (periodic) or spans.
+bool runsAway(double p, double lo, double hi, bool periodic, double period) {
+  if (periodic) return !(std::abs(p - lo) <= kMaxPeriods * period);  // NaN runs away
+  if (!std::isfinite(lo) || !std::isfinite(hi)) return !std::isfinite(p);  // a plane's: any finite value
+  const double span = std::max(hi - lo, Precision::PConfusion());
+  return !(p >= lo - kMaxPeriods * span && p <= hi + kMaxPeriods * span);
 }
+
+const std::string kTimes = std::to_string(static_cast<int>(kMaxPeriods));
 
 }  // namespace
 
@@ -24,20 +33,22 @@ bool CurveOnFace::emptyRange() const {
   return !(std::isfinite(first) && std::isfinite(last) && last - first > Precision::PConfusion());
 }
 
-bool CurveOnFace::runsRound() const {
+std::string CurveOnFace::runaway() const {
   const Handle(Geom_Surface) surface = BRep_Tool::Surface(face);
-  if (surface.IsNull() || emptyRange()) return false;
-  const double uPeriod = surface->IsUPeriodic() ? surface->UPeriod() : 0;
-  const double vPeriod = surface->IsVPeriodic() ? surface->VPeriod() : 0;
-  if (uPeriod == 0 && vPeriod == 0) return false;
+  if (surface.IsNull() || emptyRange()) return "";
+  const bool uPeriodic = surface->IsUPeriodic(), vPeriodic = surface->IsVPeriodic();
+  const double uPeriod = uPeriodic ? surface->UPeriod() : 0, vPeriod = vPeriodic ? surface->VPeriod() : 0;
   double u1 = 0, u2 = 0, v1 = 0, v2 = 0;
   surface->Bounds(u1, u2, v1, v2);
   constexpr int kSamples = 8;
   for (int i = 0; i <= kSamples; ++i) {
     const gp_Pnt2d uv = curve->Value(first + (last - first) * i / kSamples);
-    if (beyondPeriods(uv.X(), u1, uPeriod) || beyondPeriods(uv.Y(), v1, vPeriod)) return true;
+    if (runsAway(uv.X(), u1, u2, uPeriodic, uPeriod))
+      return uPeriodic ? "runs more than " + kTimes + " times round" : "runs " + kTimes + " times its size off";
+    if (runsAway(uv.Y(), v1, v2, vPeriodic, vPeriod))
+      return vPeriodic ? "runs more than " + kTimes + " times round" : "runs " + kTimes + " times its size off";
   }
-  return false;
+  return "";
 }
 
 std::string firstCurveOnFace(const TopoDS_Shape& shape, const std::function<std::string(const CurveOnFace&)>& why) {
@@ -58,10 +69,20 @@ std::string firstCurveOnFace(const TopoDS_Shape& shape, const std::function<std:
   return "";
 }
 
-std::string runawayCurveOnFace(const TopoDS_Shape& shape) {
-  return firstCurveOnFace(shape, [](const CurveOnFace& c) -> std::string {
-    return c.runsRound() ? "runs more than " + std::to_string(static_cast<int>(kMaxPeriods)) + " times round" : "";
-  });
+std::string runawayParameters(const TopoDS_Shape& shape) {
+  for (TopExp_Explorer e(shape, TopAbs_EDGE); e.More(); e.Next()) {
+    const TopoDS_Edge& edge = TopoDS::Edge(e.Current());
+    double first = 0, last = 0;
+    try {
+      const Handle(Geom_Curve) curve = BRep_Tool::Curve(edge, first, last);
+      if (curve.IsNull() || !curve->IsPeriodic()) continue;
+      if (!(std::abs(last - first) <= kMaxPeriods * curve->Period()))
+        return subShapeName(shape, edge) + " runs more than " + kTimes + " times round its curve";
+    } catch (const Standard_Failure&) {
+      return subShapeName(shape, edge) + "'s curve cannot be evaluated";
+    }
+  }
+  return firstCurveOnFace(shape, [](const CurveOnFace& c) { return c.runaway(); });
 }
 
 }  // namespace hg::geometry

@@ -21,11 +21,13 @@ struct CurveOnFace {
   double first = 0, last = 0;
 
   bool emptyRange() const;
-  // More than kMaxPeriods times round a periodic direction of the face's surface. OCCT brings
-  // a parameter into the period by subtracting one period at a time (classification, bounds,
-  // meshing): beyond 2^53 periods that never ends, and a thousand is more than any real
-  // face winds.
-  bool runsRound() const;
+  // Where the curve runs away from its surface's parameters, in words, or "": more than
+  // kMaxPeriods times round a periodic direction, or more than kMaxPeriods spans beyond a
+  // bounded one (a sphere's latitude). OCCT brings a parameter into the period one period at
+  // a time (classification, bounds), and meshes the curve's whole range: beyond 2^53 periods
+  // the one never ends, and the other takes as long; a thousand is more than any real face
+  // winds.
+  std::string runaway() const;
 };
 inline constexpr double kMaxPeriods = 1000;
 
@@ -34,8 +36,9 @@ inline constexpr double kMaxPeriods = 1000;
 // evaluated").
 std::string firstCurveOnFace(const TopoDS_Shape& shape, const std::function<std::string(const CurveOnFace&)>& why);
 
-// Why OCCT's algorithms cannot be run on this shape at all, or "": a curve on a face that
-// runs round (the loader refuses such a part: meshing or bounding it would not end either).
-std::string runawayCurveOnFace(const TopoDS_Shape& shape);
+// Why OCCT's algorithms cannot be run on this shape at all, or "": an edge whose curve runs
+// more than kMaxPeriods times round (a circle on [4.7, 6.9e16]: meshing it never ended), or
+// whose curve on a face runs away (CurveOnFace::runaway). The loader refuses such a part.
+std::string runawayParameters(const TopoDS_Shape& shape);
 
 }  // namespace hg::geometry

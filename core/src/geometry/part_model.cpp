@@ -439,7 +439,7 @@ PartModelPtr PartModel::load(const TopoDS_Shape& input, LengthUnit unit, std::st
     OCC_CATCH_SIGNALS  // damaged geometry can fault the checks and integrals too
     const Clock::time_point checkStart = Clock::now();
     // Before any OCCT algorithm meets it: one that would not end (curve_on_face.hpp).
-    if (const std::string damage = runawayCurveOnFace(input); !damage.empty())
+    if (const std::string damage = runawayParameters(input); !damage.empty())
       throw GeometryError("the part's geometry is damaged: " + damage);
     OutwardSolids outward = outwardSolids(closedSolidsOf(input, s, part->warnings_), part->warnings_);
     PartCheck check = checkPart(outward.shape, options, s);

@@ -32,7 +32,7 @@ std::string emptyRanges(const TopoDS_Shape& shape) {
 TEST(CurveOnFace, RealShapesHaveNeither) {
   for (const TopoDS_Shape& shape : {BRepPrimAPI_MakeCylinder(50, 400).Shape(), BRepPrimAPI_MakeTorus(30, 10).Shape()}) {
     EXPECT_EQ(emptyRanges(shape), "");
-    EXPECT_EQ(runawayCurveOnFace(shape), "");
+    EXPECT_EQ(runawayParameters(shape), "");
   }
 }
 
@@ -40,13 +40,20 @@ TEST(CurveOnFace, RealShapesHaveNeither) {
 TEST(CurveOnFace, AnEmptyRangeIsNamed) {
   const TopoDS_Shape shape = readSeed("timeout_empty_pcurve_range.brep");
   EXPECT_EQ(emptyRanges(shape), "edge 3 is empty on face 1");
-  EXPECT_EQ(runawayCurveOnFace(shape), "");  // empty is not round: the part still loads (mesh)
+  EXPECT_EQ(runawayParameters(shape), "");  // empty is not round: the part still loads (mesh)
 }
 
 // A seam on a torus on [0, 6.1e15] (a digit lost): 1e15 times round.
 TEST(CurveOnFace, ACurveThatRunsRoundAPeriodicFaceIsNamed) {
   const TopoDS_Shape shape = readSeed("timeout_pcurve_beyond_periods.brep");
-  EXPECT_EQ(runawayCurveOnFace(shape), "edge 2 runs more than 1000 times round on face 1");
+  EXPECT_EQ(runawayParameters(shape), "edge 2 runs more than 1000 times round on face 1");
+}
+
+// A sphere's seam on [4.7, 6.9e16] in latitude, whose range is [-pi/2, pi/2] (a lost digit):
+// meshing the face in the crossing search never ended.
+TEST(CurveOnFace, ACurveThatRunsFarOffABoundedDirectionIsNamed) {
+  EXPECT_EQ(runawayParameters(readSeed("timeout_sphere_seam_runs_off.brep")),
+            "edge 2 runs 1000 times its size off on face 1");
 }
 
 }  // namespace
