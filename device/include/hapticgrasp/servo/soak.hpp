@@ -39,7 +39,7 @@ struct SoakResult {
   long allocations = -1;  // on the servo threads, summed; -1: not measured
   std::array<std::uint64_t, device::kFaultKinds> injected{}, handled{};
   std::uint64_t faults_injected = 0, faults_handled = 0;
-  std::int64_t rss_growth_bytes = 0;  // resident memory at the end less after the first round of parts and methods
+  std::int64_t rss_growth_bytes = 0;  // resident memory at the end less after the first cycle (every part, method and contact)
   std::int64_t rss_bytes = 0;         // at the end
   std::int64_t heap_growth_bytes = 0; // malloc's bytes in use, the same way: a leak or a cache, not fragmentation
   double max_period_err_us = 0;       // as the loop measured it, the injected stalls included
