@@ -7,6 +7,7 @@
 #include <TopoDS.hxx>
 #include <gp_Pnt2d.hxx>
 
+#include <GeomAdaptor_Surface.hxx>
 #include <Geom_Curve.hxx>
 
 #include <algorithm>
@@ -26,6 +27,12 @@ bool runsAway(double p, double lo, double hi, bool periodic, double period) {
 }
 
 const std::string kTimes = std::to_string(static_cast<int>(kMaxPeriods));
+
+bool isPlane(const TopoDS_Face& face) {
+  TopLoc_Location location;
+  const Handle(Geom_Surface) surface = BRep_Tool::Surface(face, location);
+  return !surface.IsNull() && GeomAdaptor_Surface(surface).GetType() == GeomAbs_Plane;
+}
 
 }  // namespace
 
@@ -53,6 +60,9 @@ std::string CurveOnFace::runaway() const {
 
 std::string firstCurveOnFace(const TopoDS_Shape& shape, const std::function<std::string(const CurveOnFace&)>& why) {
   for (TopExp_Explorer f(shape, TopAbs_FACE); f.More(); f.Next()) {
+    // A plane is neither periodic nor bounded, so neither check applies; and OCCT computes a
+    // curve on a plane that has none stored, by a projection that can itself loop.
+    if (isPlane(TopoDS::Face(f.Current()))) continue;
     for (TopExp_Explorer e(f.Current(), TopAbs_EDGE); e.More(); e.Next()) {
       CurveOnFace c{TopoDS::Edge(e.Current()), TopoDS::Face(f.Current()), {}, 0, 0};
       std::string answer;
