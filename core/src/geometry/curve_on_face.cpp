@@ -1,14 +1,13 @@
 #include "curve_on_face.hpp"
 
 #include <BRep_Tool.hxx>
+#include <GeomAdaptor_Surface.hxx>
+#include <Geom_Curve.hxx>
 #include <Precision.hxx>
 #include <Standard_Failure.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
 #include <gp_Pnt2d.hxx>
-
-#include <GeomAdaptor_Surface.hxx>
-#include <Geom_Curve.hxx>
 
 #include <algorithm>
 #include <cmath>
