@@ -189,13 +189,15 @@ TEST(PartModelBadInput, AbsurdSectionCountInBrepText) {
                       "its Curves section claims 2000000000 entries in a text of");
 }
 
-// NaN parameters send OCCT's reader round its curve trimming for minutes; OCCT never
-// writes them, so a text holding one is refused before it is read.
+// NaN parameters send OCCT's reader round its curve trimming for minutes, and an infinite
+// plane axis its projection of an edge onto the plane for good; OCCT never writes them, so a
+// text holding one is refused before it is read.
 TEST(PartModelBadInput, NotFiniteNumberInBrepText) {
   const std::string text = brepText(cylinderShape(50, 400));
   const std::size_t surfaces = text.find("\nSurfaces ");
   ASSERT_NE(surfaces, std::string::npos);
-  for (const char* word : {"nan", "-nan", "inf", "-Infinity"}) {
+  // The last two are infinite to OCCT's strtod.
+  for (const char* word : {"nan", "-nan", "inf", "-Infinity", "0.5547e2915", "-0x1p2000"}) {
     SCOPED_TRACE(word);
     std::string broken = text;
     const std::size_t entry = broken.find('\n', surfaces + 1) + 1;  // "2 0 0 -200 ...": type, then numbers
@@ -203,6 +205,19 @@ TEST(PartModelBadInput, NotFiniteNumberInBrepText) {
     expectGeometryError([&] { PartModel::fromBrepText(broken, LengthUnit::Millimetre); },
                         std::string("it holds a number that is not finite (") + word + ")");
   }
+}
+
+// A number too small for a double is zero to OCCT's reader, as to the check: the part loads.
+TEST(PartModelBadInput, NumberBelowDoubleIsZero) {
+  const std::string text = brepText(cylinderShape(50, 400));
+  const std::size_t surfaces = text.find("\nSurfaces ");
+  ASSERT_NE(surfaces, std::string::npos);
+  std::string tiny = text;
+  const std::size_t entry = tiny.find('\n', surfaces + 1) + 1;  // "2 0 0 -200 ...": type, then the origin's x
+  ASSERT_EQ(tiny.substr(entry, 4), "2 0 ");
+  tiny.replace(entry + 2, 1, "1e-400");
+  EXPECT_NEAR(PartModel::fromBrepText(tiny, LengthUnit::Millimetre)->massProperties(MassSpec::density(1)).volume_m3,
+              M_PI * 0.05 * 0.05 * 0.4, 1e-9);
 }
 
 // A word where the reader expects a number fails the stream, after which every read does

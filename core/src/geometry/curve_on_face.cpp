@@ -78,12 +78,13 @@ std::string firstCurveOnFace(const TopoDS_Shape& shape, const std::function<std:
   return "";
 }
 
-std::string runawayParameters(const TopoDS_Shape& shape) {
+std::string damagedGeometry(const TopoDS_Shape& shape) {
   for (TopExp_Explorer e(shape, TopAbs_EDGE); e.More(); e.Next()) {
     const TopoDS_Edge& edge = TopoDS::Edge(e.Current());
     double first = 0, last = 0;
     try {
       const Handle(Geom_Curve) curve = BRep_Tool::Curve(edge, first, last);
+      if (curve.IsNull() && !BRep_Tool::Degenerated(edge)) return subShapeName(shape, edge) + " has no 3D curve";
       if (curve.IsNull() || !curve->IsPeriodic()) continue;
       if (!(std::abs(last - first) <= kMaxPeriods * curve->Period()))
         return subShapeName(shape, edge) + " runs more than " + kTimes + " times round its curve";

@@ -36,9 +36,12 @@ inline constexpr double kMaxPeriods = 1000;
 // evaluated").
 std::string firstCurveOnFace(const TopoDS_Shape& shape, const std::function<std::string(const CurveOnFace&)>& why);
 
-// Why OCCT's algorithms cannot be run on this shape at all, or "": an edge whose curve runs
-// more than kMaxPeriods times round (a circle on [4.7, 6.9e16]: meshing it never ended), or
-// whose curve on a face runs away (CurveOnFace::runaway). The loader refuses such a part.
-std::string runawayParameters(const TopoDS_Shape& shape);
+// Why OCCT's algorithms cannot be run on this shape at all, or "": an edge that is not
+// degenerate yet has no 3D curve (BRepCheck's No3DCurve: BRepMesh tessellates it through a
+// curve on a face and, on a damaged one, did not end), an edge whose curve runs more than
+// kMaxPeriods times round (a circle on [4.7, 6.9e16]: meshing it never ended), or whose
+// curve on a face runs away (CurveOnFace::runaway). The loader refuses such a part: no back
+// end can be built from it (ShapeFix's rebuilt 3D curve of a damaged edge ran to 2e100).
+std::string damagedGeometry(const TopoDS_Shape& shape);
 
 }  // namespace hg::geometry

@@ -21,6 +21,9 @@
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shell.hxx>
 
+#include <locale.h>
+#include <stdlib.h>
+
 #include <algorithm>
 #include <cctype>
 #include <chrono>
@@ -219,14 +222,24 @@ void checkSectionCount(std::string_view line, std::size_t lines, const std::stri
 }
 
 // Numbers that are not finite: NaN parameters send the reader's curve trimming round for
-// minutes (or its recursion to the end of the stack), and OCCT never writes them.
+// minutes (or its recursion to the end of the stack), and OCCT never writes them. OCCT reads
+// each number as a word through strtod, so "1e2915" is infinite to it too; an infinite axis
+// sends the projection of an edge onto its plane round forever (found by fuzz_brep). strtod
+// in the C locale reads as OCCT's reader does, whatever the process's locale (FreeCAD's).
+// OCCT reads at most 255 characters a word (GeomTools::GetReal): a longer word is read as
+// several numbers, and so is it checked.
+constexpr std::size_t kReadWidth = 255;
+
 bool notFinite(std::string_view word) {
-  if (!word.empty() && (word[0] == '-' || word[0] == '+')) word.remove_prefix(1);
-  const auto is = [word](std::string_view name) {
-    return std::equal(word.begin(), word.end(), name.begin(), name.end(),
-                      [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == b; });
-  };
-  return is("nan") || is("inf") || is("infinity");
+  static const locale_t c = newlocale(LC_ALL_MASK, "C", locale_t{});
+  char buffer[kReadWidth + 1];
+  for (; !word.empty(); word.remove_prefix(std::min(word.size(), kReadWidth))) {
+    const std::size_t n = std::min(word.size(), kReadWidth);
+    word.copy(buffer, n);
+    buffer[n] = '\0';
+    if (!std::isfinite(strtod_l(buffer, nullptr, c))) return true;
+  }
+  return false;
 }
 
 void checkNumbersFinite(std::string_view line, const std::string& what) {
@@ -235,8 +248,7 @@ void checkNumbersFinite(std::string_view line, const std::string& what) {
     const std::size_t end = std::min(line.find_first_of(" \t\r", w), line.size());
     const std::string_view word = line.substr(w, end - w);
     if (notFinite(word))
-      throw GeometryError(what + " could not be read: it holds a number that is not finite (" +
-                          std::string(word) + ")");
+      throw GeometryError(what + " could not be read: it holds a number that is not finite (" + std::string(word) + ")");
     w = end;
   }
 }
@@ -439,7 +451,7 @@ PartModelPtr PartModel::load(const TopoDS_Shape& input, LengthUnit unit, std::st
     OCC_CATCH_SIGNALS  // damaged geometry can fault the checks and integrals too
     const Clock::time_point checkStart = Clock::now();
     // Before any OCCT algorithm meets it: one that would not end (curve_on_face.hpp).
-    if (const std::string damage = runawayParameters(input); !damage.empty())
+    if (const std::string damage = damagedGeometry(input); !damage.empty())
       throw GeometryError("the part's geometry is damaged: " + damage);
     OutwardSolids outward = outwardSolids(closedSolidsOf(input, s, part->warnings_), part->warnings_);
     PartCheck check = checkPart(outward.shape, options, s);

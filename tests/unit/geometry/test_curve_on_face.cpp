@@ -1,11 +1,19 @@
 // Curves on faces with the parameter ranges OCCT's algorithms do not survive: the two
-// damaged parts fuzz_brep found are named, real parts pass.
+// damaged parts fuzz_brep found are named, real parts pass; so are edges without a 3D curve.
 #include <gtest/gtest.h>
 
+#include <BRepBuilderAPI_Copy.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCone.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRepPrimAPI_MakeSphere.hxx>
 #include <BRepPrimAPI_MakeTorus.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
+#include <Geom_Curve.hxx>
+#include <TopExp.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
 
 #include <filesystem>
 #include <string>
@@ -29,10 +37,12 @@ std::string emptyRanges(const TopoDS_Shape& shape) {
   return firstCurveOnFace(shape, [](const CurveOnFace& c) { return c.emptyRange() ? "is empty" : ""; });
 }
 
+// A sphere's poles and a cone's apex are degenerate edges, which have no 3D curve.
 TEST(CurveOnFace, RealShapesHaveNeither) {
-  for (const TopoDS_Shape& shape : {BRepPrimAPI_MakeCylinder(50, 400).Shape(), BRepPrimAPI_MakeTorus(30, 10).Shape()}) {
+  for (const TopoDS_Shape& shape : {BRepPrimAPI_MakeCylinder(50, 400).Shape(), BRepPrimAPI_MakeTorus(30, 10).Shape(),
+                                    BRepPrimAPI_MakeSphere(20).Shape(), BRepPrimAPI_MakeCone(50, 0, 100).Shape()}) {
     EXPECT_EQ(emptyRanges(shape), "");
-    EXPECT_EQ(runawayParameters(shape), "");
+    EXPECT_EQ(damagedGeometry(shape), "");
   }
 }
 
@@ -40,20 +50,31 @@ TEST(CurveOnFace, RealShapesHaveNeither) {
 TEST(CurveOnFace, AnEmptyRangeIsNamed) {
   const TopoDS_Shape shape = readSeed("timeout_empty_pcurve_range.brep");
   EXPECT_EQ(emptyRanges(shape), "edge 3 is empty on face 1");
-  EXPECT_EQ(runawayParameters(shape), "");  // empty is not round: the part still loads (mesh)
+  EXPECT_EQ(damagedGeometry(shape), "");  // empty is not round: the part still loads (mesh)
 }
 
 // A seam on a torus on [0, 6.1e15] (a digit lost): 1e15 times round.
 TEST(CurveOnFace, ACurveThatRunsRoundAPeriodicFaceIsNamed) {
   const TopoDS_Shape shape = readSeed("timeout_pcurve_beyond_periods.brep");
-  EXPECT_EQ(runawayParameters(shape), "edge 2 runs more than 1000 times round on face 1");
+  EXPECT_EQ(damagedGeometry(shape), "edge 2 runs more than 1000 times round on face 1");
 }
 
 // A sphere's seam on [4.7, 6.9e16] in latitude, whose range is [-pi/2, pi/2] (a lost digit):
 // meshing the face in the crossing search never ended.
 TEST(CurveOnFace, ACurveThatRunsFarOffABoundedDirectionIsNamed) {
-  EXPECT_EQ(runawayParameters(readSeed("timeout_sphere_seam_runs_off.brep")),
+  EXPECT_EQ(damagedGeometry(readSeed("timeout_sphere_seam_runs_off.brep")),
             "edge 2 runs 1000 times its size off on face 1");
+}
+
+// BRepMesh tessellates an edge without a 3D curve through a curve on a face: on a damaged
+// cylinder (a curve index past the table's end) it never ended.
+TEST(CurveOnFace, AnEdgeWithoutA3dCurveIsNamed) {
+  EXPECT_EQ(damagedGeometry(readSeed("timeout_edge_without_3d_curve.brep")), "edge 3 has no 3D curve");
+  const TopoDS_Shape box = BRepBuilderAPI_Copy(BRepPrimAPI_MakeBox(10, 20, 30).Shape()).Shape();
+  TopTools_IndexedMapOfShape edges;
+  TopExp::MapShapes(box, TopAbs_EDGE, edges);
+  BRep_Builder().UpdateEdge(TopoDS::Edge(edges(5)), Handle(Geom_Curve)(), 1e-7);
+  EXPECT_EQ(damagedGeometry(box), "edge 5 has no 3D curve");
 }
 
 }  // namespace
