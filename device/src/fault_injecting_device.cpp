@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
@@ -191,14 +192,16 @@ bool FaultInjectingDevice::requiresZero(const Fault& f, double t) const noexcept
 
 void FaultInjectingDevice::judge(Verdict& v, const Fault& f, double t, bool isZero, bool ok) noexcept {
   if (t < f.start_s) return;
-  if (!ok) v.violated = true;
+  if (!ok && v.unboundedAt_s < 0) v.unboundedAt_s = t - f.start_s;
   if (t >= f.start_s + f.duration_s) {
-    ++v.writesAfter;
+    if (v.writesAfter++ == 0) v.longestGap_s = std::max(v.longestGap_s, f.start_s + f.duration_s - std::max(v.lastWrite_s, f.start_s));
     return;
   }
+  v.longestGap_s = std::max(v.longestGap_s, t - std::max(v.lastWrite_s, f.start_s));
+  v.lastWrite_s = t;
   if (requiresZero(f, t)) {
     ++v.zeroWindowWrites;
-    if (!isZero) v.violated = true;
+    if (!isZero && v.nonZeroAt_s < 0) v.nonZeroAt_s = t - f.start_s;
   }
 }
 
@@ -233,27 +236,40 @@ bool FaultInjectingDevice::markExternal(FaultKind kind) noexcept {
   return true;
 }
 
+std::string FaultInjectingDevice::verdictOn(const Verdict& v, const Fault& f) const {
+  const auto ms = [](double s) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.1f ms", 1e3 * s);
+    return std::string(text);
+  };
+  if (v.unboundedAt_s >= 0) return "a command beyond the device's spec " + ms(v.unboundedAt_s) + " into it";
+  if (v.nonZeroAt_s >= 0) return "forces not zero " + ms(v.nonZeroAt_s) + " into it";
+  const bool silent = f.kind == FaultKind::Silence || f.kind == FaultKind::Unplug;
+  const double window_s = f.duration_s - rampAllowance_s_ - (silent ? inner_->spec().timeout_s : 0.0);
+  // A fault long enough to need zero forces must have seen some.
+  if (zeroes(f.kind) && window_s > 0 && v.zeroWindowWrites == 0)
+    return "no command in its last " + ms(window_s) + ", where forces must be zero: the loop's longest gap " +
+           ms(v.longestGap_s);
+  if (v.writesAfter == 0) return "no command after it";
+  return {};
+}
+
 FaultReport FaultInjectingDevice::report() const {
   FaultReport r = report_;
-  const auto count = [&](const Verdict& v, FaultKind kind) {
-    const bool handled = !v.violated && v.writesAfter > 0;
-    if (handled) ++r.handled[static_cast<int>(kind)];
+  const auto count = [&](const Verdict& v, const Fault& f) {
+    std::string why = verdictOn(v, f);
+    if (why.empty())
+      ++r.handled[static_cast<int>(f.kind)];
+    else
+      r.unhandled.push_back({f, std::move(why)});
   };
   for (std::size_t i = 0; i < schedule_.size(); ++i)
-    if (verdicts_[i].started) {
-      const Fault& f = schedule_[i];
-      // A fault long enough to need zero forces must have seen some.
-      const bool zeroSeen = !zeroes(f.kind) || verdicts_[i].zeroWindowWrites > 0 ||
-                            f.duration_s <= rampAllowance_s_ + (f.kind == FaultKind::Silence || f.kind == FaultKind::Unplug
-                                                                    ? inner_->spec().timeout_s : 0.0);
-      Verdict v = verdicts_[i];
-      if (!zeroSeen) v.violated = true;
-      count(v, f.kind);
-    }
+    if (verdicts_[i].started) count(verdicts_[i], schedule_[i]);
   const int external = std::min(externalCount_.load(std::memory_order_acquire), kExternalSlots);
   for (int i = 0; i < external; ++i) {
-    ++r.injected[static_cast<int>(external_[static_cast<std::size_t>(i)].kind)];
-    count(externalVerdicts_[static_cast<std::size_t>(i)], external_[static_cast<std::size_t>(i)].kind);
+    const External& e = external_[static_cast<std::size_t>(i)];
+    ++r.injected[static_cast<int>(e.kind)];
+    count(externalVerdicts_[static_cast<std::size_t>(i)], Fault{e.kind, e.time_s.load(std::memory_order_relaxed) - t0_, 0});
   }
   return r;
 }

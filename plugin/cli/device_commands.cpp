@@ -111,11 +111,12 @@ int soak(servo::SoakOptions options, bool json) {
               static_cast<unsigned long long>(r.nan_outputs), static_cast<unsigned long long>(r.unbounded_outputs),
               r.allocations, static_cast<long long>(r.rss_growth_bytes), r.rss_bytes / 1e6,
               static_cast<long long>(r.heap_growth_bytes));
-  std::printf("  period error max %.0f us (stalls included), %.0f us outside stalls; grasps %llu, lifts %llu, "
-              "watchdog trips %llu, clears %llu\n",
-              r.max_period_err_us, r.max_period_err_unstalled_us, static_cast<unsigned long long>(r.grasps),
+  std::printf("  period error max %.0f us (stalls included), %.0f us outside stalls; longest tick's own work %.0f us; "
+              "grasps %llu, lifts %llu, watchdog trips %llu, clears %llu\n",
+              r.max_period_err_us, r.max_period_err_unstalled_us, r.max_compute_us, static_cast<unsigned long long>(r.grasps),
               static_cast<unsigned long long>(r.lifts), static_cast<unsigned long long>(r.watchdog_trips),
               static_cast<unsigned long long>(r.watchdog_clears));
+  for (const std::string& line : r.unhandled) std::printf("  not handled: %s\n", line.c_str());
   std::printf("  contact with a floor in %d segments: pressed on it at %llu of the 10 ms looks, deepest %.1f um\n",
               r.contact_segments, static_cast<unsigned long long>(r.contact_polls), r.contact_max_penetration_m * 1e6);
   std::printf("  recorded %.1f MB, %llu records dropped%s%s\n%s\n", r.recorded_bytes / 1e6,

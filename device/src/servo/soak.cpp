@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -57,6 +58,15 @@ grasp::ScenePart swapModel(const grasp::Scene& scene, int swaps) {
   return part;
 }
 
+// "segment 7 (block, multi-finger, contact): nan at 12.345 s for 25.0 ms: <why>"
+std::string describe(int segment, const ServoBenchOptions& b, const device::UnhandledFault& u) {
+  char head[160];
+  std::snprintf(head, sizeof head, "segment %d (%s, %s%s): %s at %.3f s for %.1f ms: ", segment, b.part.c_str(),
+                b.method.c_str(), b.contact ? ", contact" : "", device::toString(u.fault.kind), u.fault.start_s,
+                1e3 * u.fault.duration_s);
+  return head + u.why;
+}
+
 void add(SoakResult& r, const ServoBenchResult& b, const device::FaultReport& f) {
   r.ticks += b.ticks;
   if (r.allocations >= 0 && b.allocations_in_loop >= 0) r.allocations += b.allocations_in_loop;
@@ -69,6 +79,7 @@ void add(SoakResult& r, const ServoBenchResult& b, const device::FaultReport& f)
   }
   r.max_period_err_us = std::max(r.max_period_err_us, b.period_err.max_us);
   r.max_period_err_unstalled_us = std::max(r.max_period_err_unstalled_us, f.maxPeriodErrUnstalled_us);
+  r.max_compute_us = std::max(r.max_compute_us, b.compute.max_us);
   r.achieved_hz_min = r.segments == 0 ? b.achieved_hz : std::min(r.achieved_hz_min, b.achieved_hz);
   r.grasps += b.grasps;
   r.lifts += b.lifts;
@@ -143,7 +154,10 @@ SoakResult runSoak(const SoakOptions& o) {
       faults->markExternal(device::FaultKind::ModelSwap);
     };
     const ServoBenchResult segment = runServoBench(b);
-    add(r, segment, faults->report());
+    const device::FaultReport report = faults->report();
+    for (const device::UnhandledFault& u : report.unhandled)
+      if (r.unhandled.size() < SoakResult::kMaxUnhandledListed) r.unhandled.push_back(describe(s, b, u));
+    add(r, segment, report);
     if (o.record) fs::remove(b.recordPath);
     // The segment's scene, models, recorder and threads are gone: give their freed pages back,
     // as the workbench does when a session stops, so that resident memory counts what is kept.
@@ -178,11 +192,13 @@ std::string toJson(const SoakResult& r, int indent) {
                             {"faults_injected", r.faults_injected},
                             {"faults_handled", r.faults_handled},
                             {"faults", faults},
+                            {"unhandled", r.unhandled},
                             {"rss_growth_bytes", r.rss_growth_bytes},
                             {"rss_bytes", r.rss_bytes},
                             {"heap_growth_bytes", r.heap_growth_bytes},
                             {"max_period_err_us", r.max_period_err_us},
                             {"max_period_err_unstalled_us", r.max_period_err_unstalled_us},
+                            {"max_compute_us", r.max_compute_us},
                             {"achieved_hz_min", r.achieved_hz_min},
                             {"grasps", r.grasps},
                             {"lifts", r.lifts},

@@ -1,5 +1,6 @@
 #include "hapticgrasp/device/fault_injecting_device.hpp"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -12,6 +13,8 @@
 
 namespace hg::device {
 namespace {
+
+using ::testing::HasSubstr;
 
 constexpr double kRate = 2000, kT = 1 / kRate;
 
@@ -112,6 +115,35 @@ TEST(FaultInjectingDevice, ALoopThatKeepsPushingThroughSilenceIsCaught) {
   const FaultReport r = driveByHand({{FaultKind::Silence, 0.1, 0.2}}, 0.5, [&](double) { return pushing; });
   EXPECT_EQ(r.injected[k(FaultKind::Silence)], 1u);
   EXPECT_EQ(r.handled[k(FaultKind::Silence)], 0u);
+  ASSERT_EQ(r.unhandled.size(), 1u);
+  EXPECT_EQ(r.unhandled[0].fault.kind, FaultKind::Silence);
+  EXPECT_THAT(r.unhandled[0].why, HasSubstr("forces not zero"));
+}
+
+TEST(FaultInjectingDevice, ALoopThatDoesNotRunWhereForcesMustBeZeroFailsTheFaultAndSaysHowLongItWasAway) {
+  // Zero forces once the NaN samples come, but no tick from 5 ms into the fault to past
+  // its end: nothing was zeroed where it had to be.
+  double clock = 0;
+  FaultInjectingDevice faults(std::make_shared<PressingHand>(), {{FaultKind::NaNSample, 0.1, 0.05}}, kRate, 0.015, 1,
+                              WanderAmplitude{Vec3::Zero()}, [&] { return clock; });
+  DeviceSample s;
+  for (; clock < 0.3; clock += kT) {
+    if (clock > 0.105 && clock < 0.16) continue;
+    faults.read(s);
+    faults.write(DeviceCommand{});
+  }
+  const FaultReport r = faults.report();
+  EXPECT_EQ(r.handled[k(FaultKind::NaNSample)], 0u);
+  ASSERT_EQ(r.unhandled.size(), 1u);
+  EXPECT_THAT(r.unhandled[0].why, HasSubstr("no command in its last 35.0 ms"));
+  EXPECT_THAT(r.unhandled[0].why, HasSubstr("longest gap 45.5 ms"));
+}
+
+TEST(FaultInjectingDevice, EveryHandledFaultLeavesNothingInTheUnhandledList) {
+  const FaultReport r = driveByHand({{FaultKind::NaNSample, 0.1, 0.05}, {FaultKind::Silence, 0.2, 0.3}}, 0.7,
+                                    [](double) { return DeviceCommand{}; });
+  EXPECT_EQ(r.totalHandled(), 2u);
+  EXPECT_TRUE(r.unhandled.empty());
 }
 
 TEST(FaultInjectingDevice, ANonFiniteCommandIsCountedAndFailsTheFaultUnderWay) {
@@ -123,6 +155,8 @@ TEST(FaultInjectingDevice, ANonFiniteCommandIsCountedAndFailsTheFaultUnderWay) {
   EXPECT_EQ(r.nanOutputs, 4u);
   EXPECT_EQ(r.injected[k(FaultKind::Stall)], 1u);
   EXPECT_EQ(r.handled[k(FaultKind::Stall)], 0u);
+  ASSERT_EQ(r.unhandled.size(), 1u);
+  EXPECT_THAT(r.unhandled[0].why, HasSubstr("beyond the device's spec"));
 }
 
 TEST(FaultInjectingDevice, AnUnpluggedDeviceIsNeitherReadNorWrittenUntilItIsBack) {
@@ -172,7 +206,9 @@ TEST(FaultInjectingDevice, RandomFaultsAreApartSortedInRangeAndTakeEveryKindInTu
     EXPECT_EQ(f.kind, static_cast<FaultKind>((i + 2) % 5));
     EXPECT_GE(f.start_s, 1.0);
     EXPECT_LE(f.start_s + f.duration_s, 600);
-    if (i > 0) EXPECT_GE(f.start_s, faults[i - 1].start_s + faults[i - 1].duration_s + 0.5);
+    if (i > 0) {
+      EXPECT_GE(f.start_s, faults[i - 1].start_s + faults[i - 1].duration_s + 0.5);
+    }
     const auto [lo, hi] = f.kind == FaultKind::Silence  ? std::pair(0.1, 0.5)
                           : f.kind == FaultKind::Stall  ? std::pair(0.005, 0.05)
                           : f.kind == FaultKind::Unplug ? std::pair(0.5, 2.0)

@@ -19,6 +19,7 @@
 #include <functional>
 #include <memory>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "hapticgrasp/device/device.hpp"
@@ -46,8 +47,15 @@ struct WanderAmplitude {
   double minFrequency_Hz = 0.05, maxFrequency_Hz = 0.4;
 };
 
+// A fault the loop did not handle, and why, for a soak that fails to say what failed.
+struct UnhandledFault {
+  Fault fault;      // for a model swap: its time, duration zero
+  std::string why;  // e.g. "forces not zero 31.0 ms into it"
+};
+
 struct FaultReport {
   std::array<std::uint64_t, kFaultKinds> injected{}, handled{};
+  std::vector<UnhandledFault> unhandled;  // in the order they started, scheduled ones first
   std::uint64_t nanOutputs = 0;        // commands with a non-finite value
   std::uint64_t unboundedOutputs = 0;  // commands beyond the spec's force or torque
   std::uint64_t writesDropped = 0;     // while unplugged
@@ -80,10 +88,17 @@ class FaultInjectingDevice : public Device {
 
  private:
   struct Verdict {
-    bool started = false, violated = false, slept = false;
+    bool started = false, slept = false;
     std::uint64_t zeroWindowWrites = 0;  // writes where zero forces were required
     std::uint64_t writesAfter = 0;       // writes after the fault ended (the loop went on)
+    // What went wrong first, from the fault's start (s); negative: it did not.
+    double unboundedAt_s = -1, nonZeroAt_s = -1;
+    // The longest time without a command from the fault's start to its end: a loop that
+    // did not run cannot zero anything, which is a failure of its own (a missed deadline).
+    double lastWrite_s = -1, longestGap_s = 0;
   };
+  // Why `v` is not handled, or empty when it is.
+  std::string verdictOn(const Verdict& v, const Fault& f) const;
   struct External {
     std::atomic<double> time_s{0};
     FaultKind kind = FaultKind::ModelSwap;

@@ -13,6 +13,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "hapticgrasp/device/fault_injecting_device.hpp"
 #include "hapticgrasp/servo/servo_loop.hpp"
@@ -39,11 +40,18 @@ struct SoakResult {
   long allocations = -1;  // on the servo threads, summed; -1: not measured
   std::array<std::uint64_t, device::kFaultKinds> injected{}, handled{};
   std::uint64_t faults_injected = 0, faults_handled = 0;
+  // The first kMaxUnhandledListed faults not handled, each a line: its segment (part,
+  // method, contact), kind, time in the segment, duration and why (fault_injecting_device.hpp).
+  static constexpr std::size_t kMaxUnhandledListed = 20;
+  std::vector<std::string> unhandled;
   std::int64_t rss_growth_bytes = 0;  // resident memory at the end less after the first cycle (every part, method and contact)
   std::int64_t rss_bytes = 0;         // at the end
   std::int64_t heap_growth_bytes = 0; // malloc's bytes in use, the same way: a leak or a cache, not fragmentation
   double max_period_err_us = 0;       // as the loop measured it, the injected stalls included
   double max_period_err_unstalled_us = 0;  // the tick after each stall left out
+  // The loop's own work in its longest tick: against the period error above, it tells a
+  // late wake-up (the machine) from a long tick (the loop's own computation).
+  double max_compute_us = 0;
   double achieved_hz_min = 0;
   std::uint64_t grasps = 0, lifts = 0, watchdog_trips = 0, watchdog_clears = 0;
   // Part-to-part contact (a floor under the part) in every other pair of segments, so that
@@ -62,8 +70,9 @@ struct SoakResult {
 SoakResult runSoak(const SoakOptions& options);
 
 // {"seconds", "segments", "ticks", "nan_outputs", "unbounded_outputs", "allocations",
-//  "faults_injected", "faults_handled", "faults": {kind: {"injected", "handled"}},
+//  "faults_injected", "faults_handled", "faults": {kind: {"injected", "handled"}}, "unhandled": [line],
 //  "rss_growth_bytes", "rss_bytes", "heap_growth_bytes", "max_period_err_us", "max_period_err_unstalled_us",
+//  "max_compute_us",
 //  "achieved_hz_min", "grasps", "lifts", "watchdog_trips", "watchdog_clears",
 //  "recording": {"bytes", "dropped_records", "error"}, "scheduler", "passed"}
 std::string toJson(const SoakResult& result, int indent = 2);
