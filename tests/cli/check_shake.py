@@ -9,7 +9,8 @@ import sys
 import tempfile
 import xml.etree.ElementTree as ET
 
-svg = os.path.join(tempfile.mkdtemp(), "shake.svg")
+work = tempfile.TemporaryDirectory(prefix="hg-shake-")  # removed at exit
+svg = os.path.join(work.name, "shake.svg")
 r = json.loads(subprocess.run([sys.argv[1], "experiment", "shake", "--json", "--plot", svg], check=True,
                               capture_output=True, text=True).stdout)
 conv, prop = r["methods"]["conventional"], r["methods"]["proposed"]

@@ -6,6 +6,7 @@ session stops first (the servo joined) and its recording is complete, not cut sh
 import glob
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -35,4 +36,5 @@ else:
     if not info["complete"]:
         failures.append("the recording was cut short at exit")
 print("\n".join(failures) or "quit while running: clean")
+shutil.rmtree(home, ignore_errors=True)  # FreeCAD's settings and the recording
 sys.exit(1 if failures else 0)

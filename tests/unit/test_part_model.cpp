@@ -39,13 +39,13 @@
 #include <sstream>
 #include <string>
 #include <vector>
-#include <unistd.h>
 
 #include "hapticgrasp/geometry/backends.hpp"
 #include "hapticgrasp/geometry/geometry_error.hpp"
 #include "hapticgrasp/geometry/mass_properties.hpp"
 #include "hapticgrasp/geometry/part_model.hpp"
 #include "hapticgrasp/geometry/sample_parts.hpp"
+#include "temp_dir.hpp"
 #include "test_shapes.hpp"
 
 namespace hg::geometry {
@@ -94,25 +94,7 @@ TopoDS_Shape scaled(const TopoDS_Shape& shape, double factor) {
 }
 
 // A scratch directory for the files the tests write, removed at exit.
-class TempDir {
- public:
-  TempDir() : path_(fs::temp_directory_path() / ("hg_test_part_model_" + std::to_string(::getpid()))) {
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
-const fs::path& tempDir() {
-  static const TempDir dir;
-  return dir.path();
-}
+const fs::path& tempDir() { return hg::test::processTempDir("part-model"); }
 
 fs::path writeFile(const std::string& name, const std::string& content) {
   const fs::path path = tempDir() / name;

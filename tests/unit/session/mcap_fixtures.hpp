@@ -2,7 +2,6 @@
 // Shared by the MCAP writer and reader tests: a per-test temporary directory, whole-file
 // helpers, and a sample recording whose every message is known.
 #include <gtest/gtest.h>
-#include <stdlib.h>
 
 #include <cstdint>
 #include <filesystem>
@@ -12,26 +11,12 @@
 #include <vector>
 
 #include "hapticgrasp/session/mcap_writer.hpp"
+#include "temp_dir.hpp"
 
 namespace hg::session::test {
 
 // A fresh directory per test, removed with everything in it afterwards.
-class TempDir {
- public:
-  TempDir() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "hg-mcap-XXXXXX").string();
-    if (::mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
-    path_ = pattern;
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  std::filesystem::path path_;
-};
+using hg::test::TempDir;
 
 inline std::string readFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

@@ -1,8 +1,6 @@
 #pragma once
 // A servo session stepped without a thread (deterministic), for the recorder, replay and
 // review tests: the bench's scripted hand read at the time step() is given, 2 kHz.
-#include <unistd.h>
-
 #include <chrono>
 #include <filesystem>
 #include <memory>
@@ -14,15 +12,12 @@
 #include "hapticgrasp/servo/servo_loop.hpp"
 #include "hapticgrasp/session/recorder.hpp"
 #include "hapticgrasp/session/session_description.hpp"
+#include "temp_dir.hpp"
 
 namespace hg::session::test {
 
-// A folder of this test process's own under the system's temporary folder.
-inline std::filesystem::path tempDir(const std::string& what) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("hg-" + what + "-" + std::to_string(getpid()));
-  std::filesystem::create_directories(dir);
-  return dir;
-}
+// A folder for this test process's files, removed when it exits (temp_dir.hpp).
+inline std::filesystem::path tempDir(const std::string& what) { return hg::test::processTempDir(what); }
 
 inline SessionDescription describeBench(const grasp::Scene& scene, const device::DeviceSpec& spec, double rate_hz) {
   SessionDescription d;

@@ -4,8 +4,6 @@
 // caught.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
 
@@ -26,8 +24,7 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string recordBench(const std::string& name, const std::string& method, int fingers, const std::string& part) {
-  const fs::path dir = fs::temp_directory_path() / ("hg-replay-" + std::to_string(getpid()));
-  fs::create_directories(dir);
+  const fs::path dir = test::tempDir("replay");
   servo::ServoBenchOptions o;
   o.device = "scripted";
   o.method = method;
@@ -157,7 +154,7 @@ TEST(Replay, PublishesTheRecordedModelSwapsAtTheirTicks) {
 }
 
 TEST(Replay, AFileThatIsNotARecordingGetsAClearError) {
-  const fs::path file = fs::temp_directory_path() / ("hg-replay-not-" + std::to_string(getpid()) + ".mcap");
+  const fs::path file = test::tempDir("replay") / "not.mcap";
   { std::ofstream(file) << "hello"; }
   EXPECT_THROW(replay(file.string()), std::runtime_error);
 }

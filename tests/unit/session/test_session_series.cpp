@@ -3,14 +3,13 @@
 // session, the carried part's manipulation is found with how far it went.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "hapticgrasp/servo/servo_bench.hpp"
 #include "hapticgrasp/session/session_series.hpp"
+#include "session/stepped_session.hpp"
 
 namespace hg::session {
 namespace {
@@ -19,8 +18,7 @@ namespace fs = std::filesystem;
 
 const std::string& recorded() {
   static const std::string file = [] {
-    const fs::path dir = fs::temp_directory_path() / ("hg-series-" + std::to_string(getpid()));
-    fs::create_directories(dir);
+    const fs::path dir = test::tempDir("series");
     servo::ServoBenchOptions o;
     o.device = "scripted";
     o.seconds = 2.5;  // one grasp, lift, put-down cycle (2 s) and the start of the next
