@@ -21,9 +21,6 @@
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shell.hxx>
 
-#include <locale.h>
-#include <stdlib.h>
-
 #include <algorithm>
 #include <cctype>
 #include <chrono>
@@ -38,6 +35,7 @@
 #include <vector>
 
 #include "hapticgrasp/geometry/occt_faults.hpp"
+#include "brep_text_check.hpp"
 #include "curve_on_face.hpp"
 #include "part_check.hpp"
 #include "primitive_recognition.hpp"
@@ -196,72 +194,6 @@ class BrepTextBuffer : public std::streambuf {
  private:
   std::string text_;
 };
-
-// Damage in a BREP text that OCCT's reader does not survive, found before it reads.
-
-// A section count ("Curves 135") larger than the text's lines: each entry takes at least
-// one, and OCCT sizes its tables by the count, then spins through entries that are not there.
-void checkSectionCount(std::string_view line, std::size_t lines, const std::string& what) {
-  static constexpr std::string_view kSections[] = {
-      "Locations", "Curve2ds",       "Curves", "Polygon3D", "Polygon2D", "PolygonOnTriangulations",
-      "Surfaces",  "Triangulations", "TShapes"};
-  const std::size_t space = line.find(' ');
-  const std::string_view section = line.substr(0, space);
-  if (space == std::string_view::npos ||
-      std::find(std::begin(kSections), std::end(kSections), section) == std::end(kSections))
-    return;
-  std::string_view count = line.substr(space + 1);
-  while (!count.empty() && std::isspace(static_cast<unsigned char>(count.back())))
-    count.remove_suffix(1);
-  if (count.empty() || count.find_first_not_of("0123456789") != std::string_view::npos)
-    return;  // not a header
-  if (count.size() > 18 || std::stoull(std::string(count)) > lines)
-    throw GeometryError(what + " could not be read: its " + std::string(section) +
-                        " section claims " + std::string(count) + " entries in a text of " +
-                        std::to_string(lines) + " lines");
-}
-
-// Numbers that are not finite: NaN parameters send the reader's curve trimming round for
-// minutes (or its recursion to the end of the stack), and OCCT never writes them. OCCT reads
-// each number as a word through strtod, so "1e2915" is infinite to it too; an infinite axis
-// sends the projection of an edge onto its plane round forever (found by fuzz_brep). strtod
-// in the C locale reads as OCCT's reader does, whatever the process's locale (FreeCAD's).
-// OCCT reads at most 255 characters a word (GeomTools::GetReal): a longer word is read as
-// several numbers, and so is it checked.
-constexpr std::size_t kReadWidth = 255;
-
-bool notFinite(std::string_view word) {
-  static const locale_t c = newlocale(LC_ALL_MASK, "C", locale_t{});
-  char buffer[kReadWidth + 1];
-  for (; !word.empty(); word.remove_prefix(std::min(word.size(), kReadWidth))) {
-    const std::size_t n = std::min(word.size(), kReadWidth);
-    word.copy(buffer, n);
-    buffer[n] = '\0';
-    if (!std::isfinite(strtod_l(buffer, nullptr, c))) return true;
-  }
-  return false;
-}
-
-void checkNumbersFinite(std::string_view line, const std::string& what) {
-  for (std::size_t w = line.find_first_not_of(" \t\r"); w < line.size();
-       w = line.find_first_not_of(" \t\r", w)) {
-    const std::size_t end = std::min(line.find_first_of(" \t\r", w), line.size());
-    const std::string_view word = line.substr(w, end - w);
-    if (notFinite(word))
-      throw GeometryError(what + " could not be read: it holds a number that is not finite (" + std::string(word) + ")");
-    w = end;
-  }
-}
-
-void checkBrepText(std::string_view text, const std::string& what) {
-  const std::size_t lines = std::count(text.begin(), text.end(), '\n') + 1;
-  for (std::size_t start = 0; start < text.size();) {
-    const std::size_t end = std::min(text.find('\n', start), text.size());
-    checkSectionCount(text.substr(start, end - start), lines, what);
-    checkNumbersFinite(text.substr(start, end - start), what);
-    start = end + 1;
-  }
-}
 
 TopoDS_Shape readBrep(std::string text, const std::string& what) {
   checkBrepText(text, what);
