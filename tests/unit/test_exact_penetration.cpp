@@ -4,8 +4,14 @@
 #include <gtest/gtest.h>
 
 #include <BRepAdaptor_Curve.hxx>
+#include <BRepAdaptor_Surface.hxx>
+#include <BRepBuilderAPI_MakeVertex.hxx>
+#include <BRepExtrema_DistShapeShape.hxx>
 #include <BRep_Tool.hxx>
 #include <Geom_RectangularTrimmedSurface.hxx>
+#include <TopExp.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
 
 #include "alloc_counter.hpp"
 #include "hapticgrasp/geometry/backends.hpp"
@@ -267,6 +273,43 @@ TEST(ExactPenetration, AllocationCounterSeesAllocations) {
   auto* p = new std::vector<int>(100);
   EXPECT_GT(test::allocations() - before, 0);
   delete p;
+}
+
+// A god object holds the face its fingertip entered: the point measured against that face
+// alone, over all its patches (found through the part's BVH, nearest first), is OCCT's
+// distance to the face whatever face is closer, or nothing where the face's closest point
+// is on its boundary; and it allocates nothing.
+TEST(ContactTracking, AHeldFreeformFaceAnswersAsOcctsDistanceToIt) {
+  const auto part = test::loftPart();
+  const auto exact = makeExactPenetration(part);
+  TopTools_IndexedMapOfShape faces;
+  TopExp::MapShapes(part->shape(), TopAbs_FACE, faces);
+  const auto points = test::shellPoints(*part, 200, 6e-3);
+  int compared = 0;
+  for (int k = 1; k <= faces.Extent(); ++k) {
+    const TopoDS_Face& face = TopoDS::Face(faces(k));
+    if (BRepAdaptor_Surface(face).GetType() != GeomAbs_BSplineSurface) continue;
+    for (const Vec3& x : points) {
+      QueryState s;
+      if (!exact->query(x, s).inside) continue;
+      double u = 0, v = 0;
+      Penetration held;
+      const bool found = exact->againstFeature(x, Feature::Face, k, u, v, held);
+      const Vec3 xu = x / part->metresPerUnit();
+      BRepExtrema_DistShapeShape distance(BRepBuilderAPI_MakeVertex(gp_Pnt(xu.x(), xu.y(), xu.z())).Vertex(), face);
+      ASSERT_TRUE(distance.IsDone());
+      // A foot inside the face, or none: OCCT's closest point is then on its boundary.
+      EXPECT_EQ(found, distance.SupportTypeShape2(1) == BRepExtrema_IsInFace) << "face " << k << " at " << x.transpose();
+      if (found) EXPECT_NEAR(held.depth, distance.Value() * part->metresPerUnit(), 1e-9) << "face " << k << " at " << x.transpose();
+      compared += found;
+    }
+    const long before = test::allocations();
+    double u = 0, v = 0;
+    Penetration held;
+    for (const Vec3& x : points) exact->againstFeature(x, Feature::Face, k, u, v, held);
+    EXPECT_EQ(test::allocations() - before, 0);
+  }
+  EXPECT_GT(compared, 80);
 }
 
 TEST(ContactTracking, HoldsTheEnteredFaceAcrossTheCylinderRimBisector) {

@@ -520,10 +520,21 @@ bool ExactPenetration::queryFeature(const Vec3& xm, Feature feature, int index, 
       if (!settling) evaluate(f, &start, s);
       else if (!certainFor(f, s.x, best)) exhaust(f, s);
     };
+    // The held feature's pieces through the part's BVH, nearest bound first and pruned by
+    // the best so far: a loft's face has hundreds of patches, and going over them in index
+    // order cost a tick of the multi-finger method up to 3.5 ms.
     auto overPieces = [&](const auto& pieces) {
-      for (std::size_t p = 0; p < pieces.size(); ++p) visit(static_cast<int>(p), pieces[p].bound, false);
-      if (s.unsettled.any())
-        for (std::size_t p = 0; p < pieces.size(); ++p) visit(static_cast<int>(p), pieces[p].bound, true);
+      auto pass = [&](bool settling) {
+        bvh_.nearest(
+            xu,
+            [&](const FeatureRef& f, double) {
+              if (f.kind == feature && f.index == i && f.piece >= 0 && f.piece < static_cast<int>(pieces.size()))
+                visit(f.piece, pieces[static_cast<std::size_t>(f.piece)].bound, settling);
+            },
+            [&] { return (s.best.distance + tie_) * (s.best.distance + tie_); });
+      };
+      pass(false);
+      if (s.unsettled.any()) pass(true);
     };
     if (feature == Feature::Face && i < static_cast<int>(faces_.size()) && faces_[i].freeform()) {
       overPieces(faces_[i].patches());
