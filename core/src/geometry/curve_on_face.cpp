@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "shape_names.hpp"
 
@@ -33,6 +34,20 @@ bool isPlane(const TopoDS_Face& face) {
   return !surface.IsNull() && GeomAdaptor_Surface(surface).GetType() == GeomAbs_Plane;
 }
 
+// The diagonal of the box around the shape's vertices: a scale that no damaged curve
+// or surface can stretch.
+double vertexSpan(const TopoDS_Shape& shape) {
+  gp_XYZ lo(HUGE_VAL, HUGE_VAL, HUGE_VAL), hi(-HUGE_VAL, -HUGE_VAL, -HUGE_VAL);
+  for (TopExp_Explorer v(shape, TopAbs_VERTEX); v.More(); v.Next()) {
+    const gp_XYZ p = BRep_Tool::Pnt(TopoDS::Vertex(v.Current())).XYZ();
+    for (int k = 1; k <= 3; ++k) {
+      lo.SetCoord(k, std::min(lo.Coord(k), p.Coord(k)));
+      hi.SetCoord(k, std::max(hi.Coord(k), p.Coord(k)));
+    }
+  }
+  return lo.X() <= hi.X() ? (hi - lo).Modulus() : 0.0;
+}
+
 }  // namespace
 
 bool CurveOnFace::emptyRange() const {
@@ -53,6 +68,26 @@ std::string CurveOnFace::runaway() const {
       return uPeriodic ? "runs more than " + kTimes + " times round" : "runs " + kTimes + " times its size off";
     if (runsAway(uv.Y(), v1, v2, vPeriodic, vPeriod))
       return vPeriodic ? "runs more than " + kTimes + " times round" : "runs " + kTimes + " times its size off";
+  }
+  return "";
+}
+
+std::string CurveOnFace::falseDegenerate(double partSize) const {
+  if (!BRep_Tool::Degenerated(edge) || emptyRange()) return "";
+  const Handle(Geom_Surface) surface = BRep_Tool::Surface(face);
+  if (surface.IsNull()) return "";
+  constexpr int kSamples = 8;
+  const gp_Pnt2d uv0 = curve->Value(first);
+  const gp_Pnt p0 = surface->Value(uv0.X(), uv0.Y());
+  double spread = 0;
+  for (int i = 1; i <= kSamples; ++i) {
+    const gp_Pnt2d uv = curve->Value(first + (last - first) * i / kSamples);
+    spread = std::max(spread, p0.Distance(surface->Value(uv.X(), uv.Y())));
+  }
+  if (!(spread <= kMaxDegenerateSpread * partSize + BRep_Tool::Tolerance(edge))) {
+    char text[96];
+    std::snprintf(text, sizeof text, "is marked degenerate yet spans %.3g (the part's vertices %.3g)", spread, partSize);
+    return text;
   }
   return "";
 }
@@ -83,16 +118,20 @@ std::string damagedGeometry(const TopoDS_Shape& shape) {
     const TopoDS_Edge& edge = TopoDS::Edge(e.Current());
     double first = 0, last = 0;
     try {
+      if (BRep_Tool::Degenerated(edge)) continue;  // a pole or apex: no 3D curve (falseDegenerate below)
       const Handle(Geom_Curve) curve = BRep_Tool::Curve(edge, first, last);
-      if (curve.IsNull() && !BRep_Tool::Degenerated(edge)) return subShapeName(shape, edge) + " has no 3D curve";
-      if (curve.IsNull() || !curve->IsPeriodic()) continue;
+      if (curve.IsNull()) return subShapeName(shape, edge) + " has no 3D curve";
+      if (!curve->IsPeriodic()) continue;
       if (!(std::abs(last - first) <= kMaxPeriods * curve->Period()))
         return subShapeName(shape, edge) + " runs more than " + kTimes + " times round its curve";
     } catch (const Standard_Failure&) {
       return subShapeName(shape, edge) + "'s curve cannot be evaluated";
     }
   }
-  return firstCurveOnFace(shape, [](const CurveOnFace& c) { return c.runaway(); });
+  if (std::string runaway = firstCurveOnFace(shape, [](const CurveOnFace& c) { return c.runaway(); }); !runaway.empty())
+    return runaway;
+  const double size = vertexSpan(shape);
+  return firstCurveOnFace(shape, [size](const CurveOnFace& c) { return c.falseDegenerate(size); });
 }
 
 }  // namespace hg::geometry

@@ -28,16 +28,23 @@ struct CurveOnFace {
   // the one never ends, and the other takes as long; a thousand is more than any real face
   // winds.
   std::string runaway() const;
+  // Where a degenerate edge (a cone's apex, a sphere's pole) is not a point on this face,
+  // in words, or "": its curve on the face maps to points more than kMaxDegenerateSpread of
+  // `partSize` apart (a cone's flipped angle put its "apex" on a circle of 88 mm, and
+  // BRepMesh's edge tessellation never ended).
+  std::string falseDegenerate(double partSize) const;
 };
 inline constexpr double kMaxPeriods = 1000;
+inline constexpr double kMaxDegenerateSpread = 0.01;
 
 // The first of the shape's curves on faces for which `why` says something, as "edge 3 <why>
 // on face 1"; "" if none. OCCT failing to evaluate one is itself an answer ("cannot be
 // evaluated").
 std::string firstCurveOnFace(const TopoDS_Shape& shape, const std::function<std::string(const CurveOnFace&)>& why);
 
-// Why OCCT's algorithms cannot be run on this shape at all, or "": an edge that is not
-// degenerate yet has no 3D curve (BRepCheck's No3DCurve: BRepMesh tessellates it through a
+// Why OCCT's algorithms cannot be run on this shape at all, or "": a degenerate edge that
+// is not a point (CurveOnFace::falseDegenerate, against the span of the part's vertices),
+// an edge that is not degenerate yet has no 3D curve (BRepCheck's No3DCurve: BRepMesh tessellates it through a
 // curve on a face and, on a damaged one, did not end), an edge whose curve runs more than
 // kMaxPeriods times round (a circle on [4.7, 6.9e16]: meshing it never ended), or whose
 // curve on a face runs away (CurveOnFace::runaway). The loader refuses such a part: no back

@@ -77,5 +77,13 @@ TEST(CurveOnFace, AnEdgeWithoutA3dCurveIsNamed) {
   EXPECT_EQ(damagedGeometry(box), "edge 5 has no 3D curve");
 }
 
+// A cone's semi-angle with its sign flipped (and its radius a digit longer): the apex edge
+// lies on a circle of 88 mm, and BRepMesh's edge tessellation never ended on it.
+TEST(CurveOnFace, ADegenerateEdgeThatIsNoPointIsNamed) {
+  EXPECT_EQ(damagedGeometry(readSeed("timeout_false_degenerate_apex.brep")),
+            "edge 1 is marked degenerate yet spans 176 (the part's vertices 91.4) on face 1");
+  EXPECT_EQ(damagedGeometry(readSeed("cone_tip.brep")), "");  // the file it was made from
+}
+
 }  // namespace
 }  // namespace hg::geometry
