@@ -270,7 +270,7 @@ TEST(PartModelBadInput, UpperCaseExtensionIsAccepted) {
 
 TEST(PartModelBadInput, GarbageBrepFile) {
   const fs::path path = writeFile("garbage.brep", "CASCADE Topology V1, (c) Matra-Datavision\nLocations 3\nbroken");
-  expectGeometryError([&] { PartModel::fromFile(path, LengthUnit::Millimetre); }, "could not be read: truncated, or not BREP");
+  expectGeometryError([&] { PartModel::fromFile(path, LengthUnit::Millimetre); }, "could not be read: its location 1 is not as OCCT writes it");
 }
 
 TEST(PartModelBadInput, TruncatedBrepFile) {

@@ -112,16 +112,22 @@ class Cursor {
     return *v == 1;
   }
 
-  // Past the line "CASCADE Topology Vn, ..." (TopTools_ShapeSet::Read looks for it line by
-  // line); n, or 0 when there is none.
+  // Past the banner line (TopTools_ShapeSet::Read looks for it line by line, as C strings
+  // of at most 99 characters, trailing CRs dropped, compared whole); its version, or 0
+  // where OCCT's reader finds none or fails first.
   int skipToVersion() {
-    static constexpr std::string_view kVersion = "CASCADE Topology V";
+    static constexpr std::string_view kBanners[] = {"CASCADE Topology V1, (c) Matra-Datavision",
+                                                    "CASCADE Topology V2, (c) Matra-Datavision",
+                                                    "CASCADE Topology V3, (c) Open Cascade"};
     while (at_ < text_.size()) {
       const std::size_t end = std::min(text_.find('\n', at_), text_.size());
-      const std::string_view line = text_.substr(at_, end - at_);
+      std::string_view line = text_.substr(at_, end - at_);
       at_ = std::min(end + 1, text_.size());
-      if (line.substr(0, kVersion.size()) == kVersion && line.size() > kVersion.size())
-        return line[kVersion.size()] - '0';
+      if (line.size() >= 100) return 0;  // the reader's getline fails
+      line = line.substr(0, line.find('\0'));
+      while (line.size() > 1 && (line.back() == '\r' || line.back() == '\n')) line.remove_suffix(1);
+      for (int v = 0; v < 3; ++v)
+        if (line == kBanners[v]) return v + 1;
     }
     return 0;
   }
@@ -139,23 +145,34 @@ class Walk {
  public:
   Walk(std::string_view text, const std::string& what) : c_(text), what_(what) {}
 
-  // True when every entry was followed and the shapes come next.
+  // True when every entry was followed and the shapes come next; where() says where not.
   bool run() {
     const int version = c_.skipToVersion();
     if (version == 0) return false;
     hasNormals_ = version >= 3;
     return section("Locations", [&](long i) { return location(i); }) &&
-           section("Curve2ds", [&](long i) { return curve(2, "2D curve " + std::to_string(i)); }) &&
-           section("Curves", [&](long i) { return curve(3, "3D curve " + std::to_string(i)); }) &&
-           section("Polygon3D", [&](long i) { return polygon3d(i); }) &&
-           section("PolygonOnTriangulations", [&](long i) { return polygonOnTriangulation(i); }) &&
-           section("Surfaces", [&](long i) { return surface("surface " + std::to_string(i)); }) &&
-           section("Triangulations", [&](long i) { return triangulation(i); }) && c_.word() == "TShapes";
+           section("Curve2ds", [&](long i) { return curve(2, at("2D curve", i)); }) &&
+           section("Curves", [&](long i) { return curve(3, at("3D curve", i)); }) &&
+           section("Polygon3D", [&](long i) { return polygon3d(at("3D polygon", i)); }) &&
+           section("PolygonOnTriangulations", [&](long i) { return polygonOnTriangulation(at("polygon on triangulation", i)); }) &&
+           section("Surfaces", [&](long i) { return surface(at("surface", i)); }) &&
+           section("Triangulations", [&](long i) { return triangulation(at("triangulation", i)); }) && shapesNext();
   }
 
+  const std::string& where() const { return where_; }
+
  private:
+  // Names the entry being read, for where() and the refusals.
+  const std::string& at(const char* kind, long i) { return where_ = std::string(kind) + " " + std::to_string(i); }
+
+  bool shapesNext() {
+    where_ = "TShapes header";
+    return c_.word() == "TShapes";
+  }
+
   template <typename Entry>
   bool section(std::string_view name, Entry entry) {
+    where_ = std::string(name) + " header";
     const std::optional<std::string_view> header = c_.word();
     const std::optional<long> count = header == name ? c_.integer() : std::nullopt;
     if (!count) return false;
@@ -201,9 +218,10 @@ class Walk {
 
   // "1" and a 3x4 matrix, or "2" and pairs (location, power) ending in 0.
   bool location(long i) {
+    at("location", i);
     const std::optional<long> type = c_.integer();
     if (type == 1) return words(12);
-    if (type != 2) return true;  // nothing more is read for it
+    if (type != 2) return false;
     for (std::optional<long> datum = c_.integer(); datum && *datum != 0; datum = c_.integer()) {
       const std::optional<long> power = c_.integer();
       if (!power) return false;
@@ -245,7 +263,7 @@ class Walk {
       }
       case 8: return words(2) && curve(dim, entry);                         // trimmed: range, basis
       case 9: return words(dim == 3 ? 4 : 1) && curve(dim, entry);          // offset: distance [, direction], basis
-      default: return false;                                                // OCCT's handler reads nothing
+      default: return false;                                                // no type OCCT writes
     }
   }
 
@@ -296,8 +314,7 @@ class Walk {
   }
 
   // BRepTools_ShapeSet::ReadPolygon3D: nodes, a flag for parameters, the deflection.
-  bool polygon3d(long i) {
-    const std::string entry = "3D polygon " + std::to_string(i);
+  bool polygon3d(const std::string& entry) {
     const std::optional<long> nodes = c_.integer(), hasParameters = c_.integer();
     if (!nodes || !hasParameters || !fits(*nodes, *hasParameters ? 4 : 3, entry, "nodes")) return false;
     return words(1 + 3 * *nodes + (*hasParameters ? *nodes : 0));
@@ -305,8 +322,7 @@ class Walk {
 
   // BRepTools_ShapeSet::ReadPolygonOnTriangulation: node indices, "p", the deflection, a
   // flag for parameters.
-  bool polygonOnTriangulation(long i) {
-    const std::string entry = "polygon on triangulation " + std::to_string(i);
+  bool polygonOnTriangulation(const std::string& entry) {
     const std::optional<long> nodes = c_.integer();
     if (!nodes || !fits(*nodes, 1, entry, "nodes")) return false;
     for (long k = 0; k < *nodes; ++k)
@@ -318,8 +334,7 @@ class Walk {
   }
 
   // BRepTools_ShapeSet::ReadTriangulation: nodes, triangles, UV flag, normals flag (V3).
-  bool triangulation(long i) {
-    const std::string entry = "triangulation " + std::to_string(i);
+  bool triangulation(const std::string& entry) {
     const std::optional<long> nodes = c_.integer(), triangles = c_.integer();
     const std::optional<bool> hasUV = c_.flag();
     const std::optional<bool> normals = hasNormals_ ? c_.flag() : std::optional<bool>(false);
@@ -336,6 +351,7 @@ class Walk {
   std::string what_;
   bool hasNormals_ = false;
   int depth_ = 0;
+  std::string where_ = "banner line (\"CASCADE Topology V1, (c) Matra-Datavision\")";
 };
 
 }  // namespace
@@ -348,7 +364,8 @@ void checkBrepText(std::string_view text, const std::string& what) {
     checkWords(text.substr(start, end - start), what);
     start = end + 1;
   }
-  Walk(text, what).run();
+  Walk walk(text, what);
+  if (!walk.run()) throw GeometryError(what + " could not be read: its " + walk.where() + " is not as OCCT writes it");
 }
 
 bool brepTextWalkedToShapes(std::string_view text) {

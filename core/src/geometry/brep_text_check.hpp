@@ -11,11 +11,14 @@
 //     for 38 GB, found by fuzz_brep), so memory stays within a few times the text's size;
 //   - curves or surfaces nested deeper than kMaxBrepNesting (the reader recurses), and a
 //     location raised to a power beyond kMaxLocationPower (its product recurses as deep).
+//   - a text whose entries cannot be followed, as OCCT writes them, up to its shapes.
 // The entries are followed as OCCT's reader consumes them (GeomTools_CurveSet, _Curve2dSet,
 // _SurfaceSet, BRepTools_ShapeSet, TopTools_LocationSet), word by word and integer by
-// integer, up to the shapes; where the text leaves that grammar the walk stops and OCCT's
-// reader, which fails cleanly there, has the last word. Written by hand: only OCCT reads
-// this format.
+// integer, up to the shapes. A text that leaves that grammar is refused rather than left to
+// OCCT: its reader carries on past a damaged entry (a zero direction ends an entry early,
+// an unknown header is skipped), and a walk that lost its place could miss a count the
+// reader then allocates for. Every text OCCT writes is followed (tests: the corpus, OCCT's
+// own samples, real STEP files meshed). Written by hand: only OCCT reads this format.
 #include <string>
 #include <string_view>
 
@@ -27,8 +30,8 @@ inline constexpr long kMaxLocationPower = 1000;     // OCCT writes powers of 1 a
 // Throws GeometryError "<what> could not be read: <why>" for the damage above.
 void checkBrepText(std::string_view text, const std::string& what);
 
-// Whether the walk followed every entry of the text up to its shapes ("TShapes"): every
-// text OCCT writes must (the tests hold real ones to it), a damaged one need not.
+// Whether the walk follows every entry of the text up to its shapes ("TShapes"), sizes
+// aside: every text OCCT writes does (the tests hold real ones to it).
 bool brepTextWalkedToShapes(std::string_view text);
 
 }  // namespace hg::geometry

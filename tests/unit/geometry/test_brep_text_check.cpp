@@ -94,6 +94,25 @@ TEST(BrepTextCheck, ANumberOfPolesBeyondTheTextIsRefused) {
   EXPECT_THAT(refusal(text), HasSubstr("its 3D curve 3 claims 1599999878 poles, more than the"));
 }
 
+// The banner is found as OCCT's reader finds it, a whole line: a first line that merely
+// starts like one ("CASCADE Topology V3DBRep_DrawableShape") does not start the walk there.
+TEST(BrepTextCheck, OnlyAWholeBannerLineStartsTheWalk) {
+  const std::string text =
+      readFile(fs::path(HG_TEST_DATA_DIR) / "../fuzz/corpus/brep/oom_bspline_poles_after_false_banner.brep");
+  ASSERT_EQ(text.rfind("CASCADE Topology V3DBRep_DrawableShape\n", 0), 0u);
+  EXPECT_THAT(refusal(text), HasSubstr("its 3D curve 3 claims 1599999878 poles"));
+}
+
+// OCCT's reader carries on past an entry it cannot make (an unknown type reads nothing
+// more), so the walk could lose its place: such a text is refused, naming the entry.
+TEST(BrepTextCheck, AnEntryNotAsOcctWritesItIsRefused) {
+  const std::string text = brepText(BRepPrimAPI_MakeCylinder(5, 10).Shape());
+  EXPECT_EQ(refusal(edited(text, "\nCurves ", "\n1 ", "\n12 ")),
+            "BREP text could not be read: its 3D curve 2 is not as OCCT writes it");
+  EXPECT_EQ(refusal(edited(text, "", "Surfaces ", "Surfaces? ")),
+            "BREP text could not be read: its Surfaces header is not as OCCT writes it");
+}
+
 TEST(BrepTextCheck, ATriangulationLargerThanTheTextIsRefused) {
   const TopoDS_Shape cylinder = BRepPrimAPI_MakeCylinder(5, 10).Shape();
   BRepMesh_IncrementalMesh(cylinder, 0.5);
