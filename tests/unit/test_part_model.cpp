@@ -45,6 +45,7 @@
 #include "hapticgrasp/geometry/mass_properties.hpp"
 #include "hapticgrasp/geometry/part_model.hpp"
 #include "hapticgrasp/geometry/sample_parts.hpp"
+#include "file_fixtures.hpp"
 #include "temp_dir.hpp"
 #include "test_shapes.hpp"
 
@@ -102,10 +103,7 @@ fs::path writeFile(const std::string& name, const std::string& content) {
   return path;
 }
 
-std::string readFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using hg::test::readFile;
 
 fs::path writeStep(const TopoDS_Shape& shape, const std::string& name) {
   const fs::path path = tempDir() / name;

@@ -19,6 +19,7 @@
 #include <string>
 
 #include "geometry/brep_text_check.hpp"
+#include "file_fixtures.hpp"
 #include "hapticgrasp/geometry/geometry_error.hpp"
 
 namespace hg::geometry {
@@ -27,10 +28,7 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-std::string readFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using hg::test::readFile;
 
 std::string brepText(const TopoDS_Shape& shape) {
   std::ostringstream out;

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "geometry/step_references.hpp"
+#include "file_fixtures.hpp"
 #include "hapticgrasp/geometry/geometry_error.hpp"
 #include "hapticgrasp/geometry/part_model.hpp"
 
@@ -18,10 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-std::string readFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using hg::test::readFile;
 
 std::string part21(const std::string& data) {
   return "ISO-10303-21;\nHEADER;\nFILE_NAME('a.step','#1',(''),(''),'','','');\nENDSEC;\nDATA;\n" + data +

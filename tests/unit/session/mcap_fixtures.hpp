@@ -10,23 +10,16 @@
 #include <string>
 #include <vector>
 
+#include "file_fixtures.hpp"
 #include "hapticgrasp/session/mcap_writer.hpp"
 #include "temp_dir.hpp"
 
 namespace hg::session::test {
 
-// A fresh directory per test, removed with everything in it afterwards.
+// A fresh directory per test, removed with everything in it afterwards; whole files.
+using hg::test::readFile;
 using hg::test::TempDir;
-
-inline std::string readFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-inline void writeFile(const std::string& path, std::string_view bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-}
+using hg::test::writeFile;
 
 // One message as the sample wrote it.
 struct SampleMessage {
