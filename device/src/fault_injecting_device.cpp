@@ -183,11 +183,13 @@ bool FaultInjectingDevice::read(DeviceSample& sample) noexcept {
   return true;
 }
 
-bool FaultInjectingDevice::requiresZero(const Fault& f, double t) const noexcept {
-  if (!zeroes(f.kind)) return false;
+double FaultInjectingDevice::zeroFrom(const Fault& f) const noexcept {
   const bool silent = f.kind == FaultKind::Silence || f.kind == FaultKind::Unplug;
-  const double detect = silent ? inner_->spec().timeout_s : 0.0;
-  return t >= f.start_s + detect + rampAllowance_s_ && t < f.start_s + f.duration_s;
+  return f.start_s + (silent ? inner_->spec().timeout_s : 0.0) + rampAllowance_s_;
+}
+
+bool FaultInjectingDevice::requiresZero(const Fault& f, double t) const noexcept {
+  return zeroes(f.kind) && t >= zeroFrom(f) && t < f.start_s + f.duration_s;
 }
 
 void FaultInjectingDevice::judge(Verdict& v, const Fault& f, double t, bool isZero, bool ok) noexcept {
@@ -244,8 +246,7 @@ std::string FaultInjectingDevice::verdictOn(const Verdict& v, const Fault& f) co
   };
   if (v.unboundedAt_s >= 0) return "a command beyond the device's spec " + ms(v.unboundedAt_s) + " into it";
   if (v.nonZeroAt_s >= 0) return "forces not zero " + ms(v.nonZeroAt_s) + " into it";
-  const bool silent = f.kind == FaultKind::Silence || f.kind == FaultKind::Unplug;
-  const double window_s = f.duration_s - rampAllowance_s_ - (silent ? inner_->spec().timeout_s : 0.0);
+  const double window_s = f.start_s + f.duration_s - zeroFrom(f);
   // A fault long enough to need zero forces must have seen some.
   if (zeroes(f.kind) && window_s > 0 && v.zeroWindowWrites == 0)
     return "no command in its last " + ms(window_s) + ", where forces must be zero: the loop's longest gap " +

@@ -108,6 +108,7 @@ class FaultInjectingDevice : public Device {
   const Fault* active(double t) noexcept;  // the scheduled fault covering t, if any
   Vec3 wanderOffset(double t) const noexcept;
   void judge(Verdict& v, const Fault& f, double t, bool zero, bool ok) noexcept;
+  double zeroFrom(const Fault& f) const noexcept;  // when the forces must be zero by (detection and ramp)
   bool requiresZero(const Fault& f, double t) const noexcept;
 
   std::shared_ptr<Device> inner_;
