@@ -122,8 +122,11 @@ std::string damagedGeometry(const TopoDS_Shape& shape) {
       const Handle(Geom_Curve) curve = BRep_Tool::Curve(edge, first, last);
       if (curve.IsNull()) return subShapeName(shape, edge) + " has no 3D curve";
       if (!curve->IsPeriodic()) continue;
-      if (!(std::abs(last - first) <= kMaxPeriods * curve->Period()))
-        return subShapeName(shape, edge) + " runs more than " + kTimes + " times round its curve";
+      if (const double turns = std::abs(last - first) / curve->Period(); !(turns <= kMaxEdgeTurns)) {
+        char text[96];
+        std::snprintf(text, sizeof text, " goes %.3g times round its curve (an edge goes round once at most)", turns);
+        return subShapeName(shape, edge) + text;
+      }
     } catch (const Standard_Failure&) {
       return subShapeName(shape, edge) + "'s curve cannot be evaluated";
     }

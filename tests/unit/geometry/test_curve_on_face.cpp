@@ -10,6 +10,7 @@
 #include <BRepPrimAPI_MakeTorus.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
+#include <BRep_Tool.hxx>
 #include <Geom_Curve.hxx>
 #include <TopExp.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
@@ -75,6 +76,30 @@ TEST(CurveOnFace, AnEdgeWithoutA3dCurveIsNamed) {
   TopExp::MapShapes(box, TopAbs_EDGE, edges);
   BRep_Builder().UpdateEdge(TopoDS::Edge(edges(5)), Handle(Geom_Curve)(), 1e-7);
   EXPECT_EQ(damagedGeometry(box), "edge 5 has no 3D curve");
+}
+
+// A cylinder's top circle on [0, 618] (a word for a digit), 98 times round: BRepMesh's
+// Delaunay triangulation of the side face never ended.
+TEST(CurveOnFace, AnEdgeThatGoesRoundItsCurveMoreThanOnceIsNamed) {
+  EXPECT_EQ(damagedGeometry(readSeed("timeout_edge_turns_98_times.brep")),
+            "edge 1 goes 98.4 times round its curve (an edge goes round once at most)");
+}
+
+// The turns of an edge's own range, made here: once and a writer's round-off load; twice
+// does not.
+TEST(CurveOnFace, AnEdgeMayGoRoundOnceWithRoundOff) {
+  for (const double turns : {1.0, 1.005, 2.0}) {
+    const TopoDS_Shape cylinder = BRepBuilderAPI_Copy(BRepPrimAPI_MakeCylinder(50, 400).Shape()).Shape();
+    TopTools_IndexedMapOfShape edges;
+    TopExp::MapShapes(cylinder, TopAbs_EDGE, edges);
+    for (int i = 1; i <= edges.Extent(); ++i) {
+      double first = 0, last = 0;
+      const TopoDS_Edge& edge = TopoDS::Edge(edges(i));
+      const Handle(Geom_Curve) curve = BRep_Tool::Curve(edge, first, last);
+      if (curve->IsPeriodic()) BRep_Builder().Range(edge, first, first + turns * curve->Period(), true);
+    }
+    EXPECT_EQ(damagedGeometry(cylinder).empty(), turns < 1.01) << turns << " turns: " << damagedGeometry(cylinder);
+  }
 }
 
 // A cone's semi-angle with its sign flipped (and its radius a digit longer): the apex edge
