@@ -118,5 +118,26 @@ TEST(FaceCrossings, ACrossingLiesOnBothFaces) {
   EXPECT_GT(search.deflection, 0);
 }
 
+// BRepMesh's Delaunay triangulation of a damaged B-spline face (fuzz_brep) asked its
+// progress indicator 48,195 times over 9.8 s, and its triangles' boxes overlapped in 112
+// million pairs: the search stops each at its budget and says so; real parts stay well
+// within both.
+TEST(FaceCrossings, MeshingAndComparingStopAtTheirBudgetsAndSaySo) {
+  TopoDS_Shape shape;
+  BRep_Builder builder;
+  const std::filesystem::path path =
+      std::filesystem::path(HG_TEST_DATA_DIR) / "../fuzz/corpus/brep/slow_bspline_face_meshing.brep";
+  ASSERT_TRUE(BRepTools::Read(shape, path.c_str(), builder));
+  const CrossingSearch damaged = findFaceCrossings(shape);
+  EXPECT_TRUE(damaged.meshingStopped);
+  // Its triangles' boxes overlapped in 112 million pairs: the search stops at its budget.
+  EXPECT_TRUE(damaged.pairsStopped);
+  for (const auto& part : {test::loftPart(), test::drilledBlockPart()}) {
+    const CrossingSearch search = findFaceCrossings(part->shape());
+    EXPECT_FALSE(search.meshingStopped);
+    EXPECT_FALSE(search.pairsStopped);
+  }
+}
+
 }  // namespace
 }  // namespace hg::geometry

@@ -6,6 +6,9 @@
 #include <BRepBuilderAPI_Copy.hxx>
 #include <BRepMesh_IncrementalMesh.hxx>
 #include <BRepTopAdaptor_FClass2d.hxx>
+#include <IMeshTools_Parameters.hxx>
+#include <Message_ProgressIndicator.hxx>
+#include <Message_ProgressScope.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
@@ -53,6 +56,12 @@ constexpr double kBoundaryAngle = 0.5;
 // confirmations in all (each a few projections onto the surfaces; touching pairs such as a
 // bolt in its hole yield many candidates, each rejected at its first step).
 constexpr int kCandidatesPerPair = 6;
+// Bounds on the pairs of primitives whose boxes overlap. Real parts have fewer than ten per
+// primitive (the corpus and the external files: at most 6.3); a surface folded on itself
+// has thousands (a damaged B-spline face: 112 million pairs among 40,000 triangles, 3 s in
+// Release, 30 s under ASan; fuzz_brep).
+constexpr long kBoxPairsPerPrimitive = 100;
+constexpr long kBoxPairsAtLeast = 100'000;
 constexpr int kMaxPairs = 200;
 constexpr int kMaxConfirmations = 500;
 // Surfaces that meet at less than ~1.1 degrees touch (coincident or tangent faces) rather
@@ -125,9 +134,11 @@ class Bvh {
     build(0, static_cast<int>(primitives_.size()));
   }
 
+  // Calls visit(a, b) for each pair whose boxes overlap while it returns true; false if it
+  // stopped the walk.
   template <class Visit>
-  void forEachOverlappingPair(Visit&& visit) const {
-    if (!nodes_.empty()) self(0, visit);
+  bool forEachOverlappingPair(Visit&& visit) const {
+    return nodes_.empty() || self(0, visit);
   }
 
  private:
@@ -162,39 +173,32 @@ class Bvh {
   }
 
   template <class Visit>
-  void self(int n, Visit& visit) const {
+  bool self(int n, Visit& visit) const {
     const Node& node = nodes_[n];
     if (node.left < 0) {
       for (int i = node.first; i < node.first + node.count; ++i)
         for (int j = i + 1; j < node.first + node.count; ++j)
-          if (primitives_[i].box.overlaps(primitives_[j].box)) visit(primitives_[i], primitives_[j]);
-      return;
+          if (primitives_[i].box.overlaps(primitives_[j].box) && !visit(primitives_[i], primitives_[j])) return false;
+      return true;
     }
-    self(node.left, visit);
-    self(node.right, visit);
-    pair(node.left, node.right, visit);
+    return self(node.left, visit) && self(node.right, visit) && pair(node.left, node.right, visit);
   }
 
   template <class Visit>
-  void pair(int a, int b, Visit& visit) const {
+  bool pair(int a, int b, Visit& visit) const {
     const Node& na = nodes_[a];
     const Node& nb = nodes_[b];
-    if (!na.box.overlaps(nb.box)) return;
+    if (!na.box.overlaps(nb.box)) return true;
     if (na.left < 0 && nb.left < 0) {
       for (int i = na.first; i < na.first + na.count; ++i)
         for (int j = nb.first; j < nb.first + nb.count; ++j)
-          if (primitives_[i].box.overlaps(primitives_[j].box)) visit(primitives_[i], primitives_[j]);
-      return;
+          if (primitives_[i].box.overlaps(primitives_[j].box) && !visit(primitives_[i], primitives_[j])) return false;
+      return true;
     }
     // Descend the larger node (or the one that is not a leaf).
     const bool splitA = nb.left < 0 || (na.left >= 0 && volume(na.box) >= volume(nb.box));
-    if (splitA) {
-      pair(na.left, b, visit);
-      pair(na.right, b, visit);
-    } else {
-      pair(a, nb.left, visit);
-      pair(a, nb.right, visit);
-    }
+    if (splitA) return pair(na.left, b, visit) && pair(na.right, b, visit);
+    return pair(a, nb.left, visit) && pair(a, nb.right, visit);
   }
 
   static double volume(const Box3& b) { return (b.hi[0] - b.lo[0]) * (b.hi[1] - b.lo[1]) * (b.hi[2] - b.lo[2]); }
@@ -387,6 +391,24 @@ struct FaceInfo {
   std::unique_ptr<PlanarRegion> region;  // planar faces
 };
 
+// BRepMesh asks its progress indicator whether to stop once a face or a new vertex: this
+// one says stop after a fixed number of asks, so that the budget is the same on every
+// machine. A damaged B-spline face kept BRepMesh's Delaunay busy for 9.8 s (48,195 asks;
+// fuzz_brep); real parts ask about six times a face (the 1,030-face sample plate 6,146, the
+// corpus at most 3,007 for 517 faces). Within 5,000 asks that face takes 0.5 s.
+constexpr long kMeshingChecksAtLeast = 5'000;
+constexpr long kMeshingChecksPerFace = 50;
+class MeshingBudget final : public Message_ProgressIndicator {
+ public:
+  explicit MeshingBudget(long checks) : left_(checks) {}
+  Standard_Boolean UserBreak() override { return --left_ < 0; }
+  void Show(const Message_ProgressScope&, const Standard_Boolean) override {}
+  bool spent() const { return left_ < 0; }
+
+ private:
+  long left_;
+};
+
 class CrossingFinder {
  public:
   explicit CrossingFinder(const TopoDS_Shape& shape) : shape_(shape) {
@@ -400,7 +422,11 @@ class CrossingFinder {
     collectFaces();
     meshCurvedFaces();
     Bvh bvh(primitives_);
-    bvh.forEachOverlappingPair([this](const Primitive& a, const Primitive& b) { test(a, b); });
+    long left = kBoxPairsPerPrimitive * static_cast<long>(primitives_.size()) + kBoxPairsAtLeast;
+    result_.pairsStopped = !bvh.forEachOverlappingPair([this, &left](const Primitive& a, const Primitive& b) {
+      test(a, b);
+      return --left > 0;
+    });
     confirmCandidates();
     return std::move(result_);
   }
@@ -439,6 +465,8 @@ class CrossingFinder {
 
   // The curved faces of a copy (the shape is never modified: BRepMesh stores its triangles
   // in the faces), meshed together so that neighbours share the nodes of their edges.
+  // Within a budget of BRepMesh's progress checks (MeshingBudget): the faces it leaves
+  // without triangles are reported as not searched.
   void meshCurvedFaces() {
     const TopoDS_Shape copy = BRepBuilderAPI_Copy(shape_, false, false).Shape();
     TopTools_IndexedMapOfShape copyFaces;
@@ -453,7 +481,14 @@ class CrossingFinder {
         any = true;
       }
     if (!any) return;
-    BRepMesh_IncrementalMesh(curved, result_.deflection, false, kAngularDeflection, false);
+    IMeshTools_Parameters parameters;
+    parameters.Deflection = result_.deflection;
+    parameters.Angle = kAngularDeflection;
+    parameters.InParallel = false;
+    const Handle(MeshingBudget) budget =
+        new MeshingBudget(kMeshingChecksAtLeast + kMeshingChecksPerFace * static_cast<long>(faces_.size()));
+    BRepMesh_IncrementalMesh(curved, parameters, budget->Start());
+    result_.meshingStopped = budget->spent();
     for (int i = 0; i < static_cast<int>(faces_.size()) && i < copyFaces.Extent(); ++i) {
       if (faces_[i].planar) continue;
       TopLoc_Location location;

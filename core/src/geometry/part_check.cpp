@@ -41,6 +41,8 @@ struct Findings {
   int unmeshed = 0;                            // faces the crossing search could not mesh
   bool searched = false;                       // the crossing search ran
   bool truncated = false;                      // it confirmed only some of its candidates
+  bool meshingStopped = false;                 // its meshing stopped at its budget
+  bool pairsStopped = false;                   // so did its comparing of boxes
 };
 
 std::string facePairName(const TopoDS_Shape& numbering, const FaceCrossing& c) {
@@ -100,6 +102,8 @@ Findings findDefects(const TopoDS_Shape& solids, const PartLoadOptions& options)
   const CrossingSearch& search = *result;
   found.searched = true;
   found.truncated = search.truncated;
+  found.meshingStopped = search.meshingStopped;
+  found.pairsStopped = search.pairsStopped;
   found.unmeshed = static_cast<int>(search.unmeshed.size());
   int within = 0;
   const FaceCrossing* first = nullptr;
@@ -239,6 +243,11 @@ PartCheck checkPart(const TopoDS_Shape& solids, const PartLoadOptions& options, 
                            " could not be meshed and were not searched for crossings");
   if (found.truncated)
     out.warnings.push_back("the crossing search confirmed only its first candidates: faces may cross elsewhere");
+  if (found.meshingStopped)
+    out.warnings.push_back("the crossing search's meshing stopped at its budget: faces may cross where it did not reach");
+  if (found.pairsStopped)
+    out.warnings.push_back("the crossing search compared the boxes of its triangles up to its budget (a face folds on "
+                           "itself?): faces may cross where it did not reach");
   if (options.checkSelfIntersection) {
     const std::vector<SolidOverlap> overlaps = findSolidOverlaps(out.solids, found.crossingSolids);
     if (!overlaps.empty()) out.warnings.push_back(overlapWarning(overlaps, out.solids, metresPerUnit));

@@ -32,6 +32,8 @@ struct CrossingSearch {
   std::vector<TopoDS_Face> unmeshed;    // curved faces BRepMesh left without triangles: not searched
   double deflection = 0;                // of the search mesh, shape units
   bool truncated = false;               // more candidate pairs than are confirmed (kept bounded)
+  bool meshingStopped = false;          // BRepMesh stopped at its budget: curved faces meshed in part
+  bool pairsStopped = false;            // the overlapping boxes were more than its budget: compared in part
 };
 
 // `shape`: a solid or a compound of solids. Throws Standard_Failure only on OCCT bugs.
