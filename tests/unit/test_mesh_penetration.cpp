@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <functional>
 #include <limits>
 #include <new>
@@ -28,10 +29,12 @@
 #include <vector>
 
 #include "hapticgrasp/geometry/backends.hpp"
+#include "hapticgrasp/geometry/part_model.hpp"
 #include "hapticgrasp/geometry/tessellation.hpp"
 #include "hapticgrasp/geometry/winding_number.hpp"
 #include "geometry/loop_crossings.hpp"
 #include "hapticgrasp/sanitized.hpp"
+#include "file_fixtures.hpp"
 #include "test_shapes.hpp"
 
 // ---- Heap accounting ------------------------------------------------------------------
@@ -1010,6 +1013,23 @@ TEST(WindingNumber, NoTrianglesEncloseNothing) {
   EXPECT_EQ(empty.at(Vec3::Zero()), 0);
   EXPECT_FALSE(empty.encloses(Vec3::Zero()));
   EXPECT_THROW(WindingNumber({Vec3::Zero()}, {Eigen::Vector3i(0, 0, 1)}), GeometryError);
+}
+
+// A damaged cone (NUL bytes in its numbers) that the load sends to the mesh back end: the
+// face fill met an edge without geometry, and OCCT's Standard_NullObject reached the
+// workbench as "unknown error". It is now one line saying what failed.
+TEST(MeshPenetration, OcctFailingWhileBuildingIsOneClearError) {
+  const std::string text = test::readFile(std::filesystem::path(HG_TEST_DATA_DIR) /
+                                          "../fuzz/corpus/brep/no_geometry_in_mesh_face_fill.brep");
+  ASSERT_FALSE(text.empty());
+  const PartModelPtr part = PartModel::fromBrepText(text, LengthUnit::Millimetre, "cone");
+  EXPECT_EQ(part->backendChoice().backend, Backend::Mesh);
+  try {
+    makePenetration(part);
+    ADD_FAILURE() << "the back end was built";
+  } catch (const GeometryError& e) {
+    EXPECT_EQ(std::string(e.what()), "OpenCASCADE failed building the back end: BRepAdaptor_Curve::No geometry");
+  }
 }
 
 }  // namespace

@@ -1,6 +1,11 @@
 #include "hapticgrasp/geometry/backends.hpp"
 
+#include <Standard_ErrorHandler.hxx>
+#include <Standard_Failure.hxx>
+
 #include <string>
+
+#include "hapticgrasp/geometry/occt_faults.hpp"
 
 namespace hg::geometry {
 
@@ -24,10 +29,7 @@ PenetrationModelPtr meshFor(PartModelPtr part, double setting_m) {
   return makeMeshPenetration(std::move(part), setting_m > 0 ? setting_m : kDefaultDeflection_m, sign);
 }
 
-}  // namespace
-
-PenetrationModelPtr makePenetration(PartModelPtr part, Backend backend, double setting_m) {
-  if (!part) throw GeometryError("no part to answer");
+PenetrationModelPtr build(PartModelPtr part, Backend backend, double setting_m) {
   switch (backend) {
     case Backend::Reference: return makeReferencePenetration(std::move(part));
     case Backend::Exact: return makeExactPenetration(std::move(part));
@@ -50,6 +52,24 @@ PenetrationModelPtr makePenetration(PartModelPtr part, Backend backend, double s
     }
   }
   return makeExactPenetration(std::move(part));
+}
+
+}  // namespace
+
+// OCCT's failures while building (a damaged part the load let through to a robust back end:
+// BRepAdaptor_Curve's "No geometry" in the mesh back end's face fill, found by building the
+// back end of each brep fuzz input) become one GeometryError, as in the part's load; a
+// fault under OCCT's handlers too (occt_faults.hpp). Without this, the command line said
+// only "OpenCASCADE failed" and the workbench "unknown error while building the model".
+PenetrationModelPtr makePenetration(PartModelPtr part, Backend backend, double setting_m) {
+  if (!part) throw GeometryError("no part to answer");
+  const FaultStack faultStack;
+  try {
+    OCC_CATCH_SIGNALS
+    return build(std::move(part), backend, setting_m);
+  } catch (const Standard_Failure& e) {
+    throw GeometryError(std::string("OpenCASCADE failed building the back end: ") + e.GetMessageString());
+  }
 }
 
 std::string autoBackendReason(const PartModel& part, std::string_view answeredBy) {
