@@ -92,6 +92,21 @@ std::string CurveOnFace::falseDegenerate(double partSize) const {
   return "";
 }
 
+std::string CurveOnFace::seamOnItself() const {
+  if (!BRep_Tool::IsClosed(edge, face) || emptyRange()) return "";
+  double first2 = 0, last2 = 0;
+  const Handle(Geom2d_Curve) other =
+      BRep_Tool::CurveOnSurface(TopoDS::Edge(edge.Reversed()), face, first2, last2);
+  if (other.IsNull() || other == curve) return other.IsNull() ? "" : "is a seam whose two curves are one";
+  // Both curves run over the edge's one range (OCCT keeps a seam's curves on it).
+  constexpr int kSamples = 4;
+  for (int i = 0; i <= kSamples; ++i) {
+    const double t = first + (last - first) * i / kSamples;
+    if (!(curve->Value(t).Distance(other->Value(t)) <= Precision::PConfusion())) return "";
+  }
+  return "is a seam whose two curves coincide";
+}
+
 std::string firstCurveOnFace(const TopoDS_Shape& shape, const std::function<std::string(const CurveOnFace&)>& why) {
   for (TopExp_Explorer f(shape, TopAbs_FACE); f.More(); f.Next()) {
     // A plane is neither periodic nor bounded, so neither check applies; and OCCT computes a
@@ -133,6 +148,8 @@ std::string damagedGeometry(const TopoDS_Shape& shape) {
   }
   if (std::string runaway = firstCurveOnFace(shape, [](const CurveOnFace& c) { return c.runaway(); }); !runaway.empty())
     return runaway;
+  if (std::string seam = firstCurveOnFace(shape, [](const CurveOnFace& c) { return c.seamOnItself(); }); !seam.empty())
+    return seam;
   const double size = vertexSpan(shape);
   return firstCurveOnFace(shape, [size](const CurveOnFace& c) { return c.falseDegenerate(size); });
 }

@@ -33,6 +33,11 @@ struct CurveOnFace {
   // `partSize` apart (a cone's flipped angle put its "apex" on a circle of 88 mm, and
   // BRepMesh's edge tessellation never ended).
   std::string falseDegenerate(double partSize) const;
+  // Where a seam (an edge with two curves on this face, one each side of a periodic
+  // surface's cut) has its two curves on the same line, in words, or "": the face's
+  // parameters then have no cut, and BRepMesh's preprocessing inserted points on the edge
+  // until memory ran out (fuzz_brep: a cone's seam written "2 2" for "2 3", 8 GB in 55 s).
+  std::string seamOnItself() const;
 };
 inline constexpr double kMaxPeriods = 1000;
 inline constexpr double kMaxDegenerateSpread = 0.01;
@@ -51,6 +56,7 @@ std::string firstCurveOnFace(const TopoDS_Shape& shape, const std::function<std:
 
 // Why OCCT's algorithms cannot be run on this shape at all, or "": a degenerate edge that
 // is not a point (CurveOnFace::falseDegenerate, against the span of the part's vertices),
+// a seam whose two curves on a face coincide (CurveOnFace::seamOnItself),
 // an edge that is not degenerate yet has no 3D curve (BRepCheck's No3DCurve: BRepMesh tessellates it through a
 // curve on a face and, on a damaged one, did not end), an edge that goes round its curve
 // more than kMaxEdgeTurns times (a circle on [4.7, 6.9e16], or 98 times round: meshing it

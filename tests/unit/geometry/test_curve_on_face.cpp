@@ -11,7 +11,9 @@
 #include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
+#include <Geom2d_Curve.hxx>
 #include <Geom_Curve.hxx>
+#include <TopExp_Explorer.hxx>
 #include <TopExp.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
@@ -83,6 +85,26 @@ TEST(CurveOnFace, AnEdgeWithoutA3dCurveIsNamed) {
 TEST(CurveOnFace, AnEdgeThatGoesRoundItsCurveMoreThanOnceIsNamed) {
   EXPECT_EQ(damagedGeometry(readSeed("timeout_edge_turns_98_times.brep")),
             "edge 1 goes 98.4 times round its curve (an edge goes round once at most)");
+}
+
+// A cone's seam written with one curve on the face twice ("2 2" for "2 3"): BRepMesh's
+// preprocessing inserted points on it until memory ran out. Real seams (the shapes of
+// RealShapesHaveNeither) have two.
+TEST(CurveOnFace, ASeamWhoseTwoCurvesAreOneIsNamed) {
+  EXPECT_EQ(damagedGeometry(readSeed("oom_seam_on_itself.brep")), "edge 2 is a seam whose two curves are one on face 1");
+  // Two curves on the same line: a cylinder's seam given a copy of its first curve twice.
+  const TopoDS_Shape cylinder = BRepBuilderAPI_Copy(BRepPrimAPI_MakeCylinder(50, 400).Shape()).Shape();
+  TopTools_IndexedMapOfShape faces;
+  TopExp::MapShapes(cylinder, TopAbs_FACE, faces);
+  const TopoDS_Face& side = TopoDS::Face(faces(1));
+  for (TopExp_Explorer e(side, TopAbs_EDGE); e.More(); e.Next()) {
+    const TopoDS_Edge& edge = TopoDS::Edge(e.Current());
+    if (!BRep_Tool::IsClosed(edge, side)) continue;
+    double first = 0, last = 0;
+    const Handle(Geom2d_Curve) curve = BRep_Tool::CurveOnSurface(edge, side, first, last);
+    BRep_Builder().UpdateEdge(edge, curve, Handle(Geom2d_Curve)::DownCast(curve->Copy()), side, 1e-7);
+  }
+  EXPECT_EQ(damagedGeometry(cylinder), "edge 2 is a seam whose two curves coincide on face 1");
 }
 
 // The turns of an edge's own range, made here: once and a writer's round-off load; twice
