@@ -360,15 +360,21 @@ RecordedPart describePart(const grasp::ScenePart& s, std::string name) {
   return p;
 }
 
-std::string brepAsText(std::string_view binaryBrep) {
+std::string brepAsText(const RecordedPart& part) {
+  const std::string whose = "part '" + part.name + "': its recorded shape";
   TopoDS_Shape shape;
   try {
-    std::istringstream in(std::string(binaryBrep), std::ios::binary);
+    std::istringstream in(part.brep, std::ios::binary);
     BinTools::Read(shape, in);
   } catch (const Standard_Failure& e) {
-    throw SessionError(std::string("recorded shape: not a binary BREP (") + e.GetMessageString() + ")");
+    throw SessionError(whose + " is not a binary BREP (" + e.GetMessageString() + ")");
   }
-  if (shape.IsNull()) throw SessionError("recorded shape: not a binary BREP");
+  if (shape.IsNull()) throw SessionError(whose + " is not a binary BREP");
+  try {
+    geometry::PartModel::fromShape(shape, part.unit, part.name);
+  } catch (const geometry::GeometryError& e) {
+    throw SessionError(whose + " is refused: " + e.what());
+  }
   std::ostringstream out;
   BRepTools::Write(shape, out, /*theWithTriangles=*/false, /*theWithNormals=*/false, TopTools_FormatVersion_CURRENT);
   return std::move(out).str();

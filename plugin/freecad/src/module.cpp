@@ -650,11 +650,17 @@ PYBIND11_MODULE(_hapticgrasp, m) {
           [](const ReviewTrack& r, std::size_t i) -> py::object {
             const session::RecordedPart& p = r.models.at(i);
             if (p.brep.empty()) return py::none();
-            return py::bytes(session::brepAsText(p.brep));
+            std::string text;
+            {
+              py::gil_scoped_release release;  // the part's checks: as long as loading it
+              text = session::brepAsText(p);
+            }
+            return py::bytes(text);
           },
           py::arg("i"),
           "Part i's last recorded shape as OCCT text BREP (own frame, in its unit; what FreeCAD's "
-          "importBrepFromString reads), or None; RuntimeError when the recorded bytes are not a shape.")
+          "importBrepFromString reads), or None; RuntimeError when the recorded bytes are not a shape or the "
+          "checks of a part's load refuse it (a recording may come from anyone).")
       .def_property_readonly("events",
                              [](const ReviewTrack& r) {
                                py::list out;

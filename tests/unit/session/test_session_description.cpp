@@ -100,7 +100,7 @@ TEST(SessionDescription, PartsCarryTheirExactShapeAndAStableHash) {
 // FreeCAD reads the text; the text is the same solid (faces, volume to 1e-9).
 TEST(SessionDescription, ARecordedShapeReadsBackAsTextBrep) {
   const RecordedPart part = describeParts(*servo::benchScene())[0];
-  std::istringstream in(brepAsText(part.brep));
+  std::istringstream in(brepAsText(part));
   TopoDS_Shape text;
   BRep_Builder builder;
   BRepTools::Read(text, in, builder);
@@ -116,8 +116,33 @@ TEST(SessionDescription, ARecordedShapeReadsBackAsTextBrep) {
   BRepGProp::VolumeProperties(binary, b);
   EXPECT_GT(b.Mass(), 0.0);
   EXPECT_NEAR(a.Mass(), b.Mass(), 1e-9 * b.Mass());
-  EXPECT_THROW(brepAsText("not a shape"), SessionError);
-  EXPECT_THROW(brepAsText(""), SessionError);
+  RecordedPart broken = part;
+  for (const std::string bytes : {"not a shape", ""}) {
+    broken.brep = bytes;
+    EXPECT_THROW(brepAsText(broken), SessionError);
+  }
+}
+
+// A recording may come from anyone: a shape the part load refuses never reaches FreeCAD
+// (the cylinder whose top edge goes 98 times round, which BRepMesh meshed for good).
+TEST(SessionDescription, ARecordedShapeThePartLoadRefusesIsNotGivenOut) {
+  TopoDS_Shape damaged;
+  BRep_Builder builder;
+  const std::string seed = std::string(HG_TEST_DATA_DIR) + "/../fuzz/corpus/brep/timeout_edge_turns_98_times.brep";
+  ASSERT_TRUE(BRepTools::Read(damaged, seed.c_str(), builder));
+  std::ostringstream binary(std::ios::binary);
+  BinTools::Write(damaged, binary);
+  RecordedPart part = describeParts(*servo::benchScene())[0];
+  part.name = "tube";
+  part.brep = binary.str();
+  try {
+    brepAsText(part);
+    ADD_FAILURE() << "a damaged shape was given out";
+  } catch (const SessionError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "part 'tube': its recorded shape is refused: the part's geometry is damaged: edge 1 goes 98.4 times "
+              "round its curve (an edge goes round once at most)");
+  }
 }
 
 TEST(SessionDescription, ADamagedDescriptionNamesWhatIsWrong) {

@@ -95,11 +95,14 @@ RecordedPart describePart(const grasp::ScenePart& part, std::string name);
 std::string partToJson(const RecordedPart& part);
 RecordedPart partFromJson(std::string_view json);
 
-// A recorded binary BREP as OCCT's text BREP (geometry only, no triangulation): what FreeCAD
-// 0.20 reads (Part.Shape.importBrepFromString); its importBinary reads only the pre-7.6
-// BinTools_ShapeSet layout, not what BinTools::Write writes now. Throws SessionError when
-// the bytes are not a shape.
-std::string brepAsText(std::string_view binaryBrep);
+// A recorded part's binary BREP as OCCT's text BREP (geometry only, no triangulation): what
+// FreeCAD 0.20 reads (Part.Shape.importBrepFromString); its importBinary reads only the
+// pre-7.6 BinTools_ShapeSet layout, not what BinTools::Write writes now. A recording may
+// come from anyone: the shape first passes the checks a session's part load makes
+// (PartModel::fromShape), so that a damaged one never reaches FreeCAD, whose display would
+// mesh it with no limit (an edge 98 times round kept BRepMesh busy for good). Throws
+// SessionError, naming the part, when the bytes are not a shape or the checks refuse it.
+std::string brepAsText(const RecordedPart& part);
 
 // Hex FNV-1a 64 of `text`: identical shapes share one attachment.
 std::string contentHash(std::string_view text);
