@@ -1,7 +1,7 @@
 // Session recordings (.mcap): what `recording info`, the report, `replay` and the Review
 // panel read. readRecordingInfo (the reader, the session description, annotations),
 // replay (the scene rebuilt from the attached binary BREPs, every tick re-simulated) and
-// brepAsText (an attached shape handed to FreeCAD). Documented errors: McapError and
+// brepAsText (an attached shape checked, then handed to FreeCAD). Documented errors: McapError and
 // SessionError; a truncated or damaged file otherwise reads with warnings.
 #include "fuzz_support.hpp"
 #include "hapticgrasp/geometry/geometry_error.hpp"
@@ -17,7 +17,7 @@ void read(const std::string& path) {
   const RecordingInfo info = readRecordingInfo(path);
   toJson(info);
   for (const RecordedPart& part : info.description.parts)
-    if (!part.brep.empty()) brepAsText(part.brep);
+    if (!part.brep.empty()) brepAsText(part);
   toJson(replay(path));
 }
 

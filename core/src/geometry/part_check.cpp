@@ -239,8 +239,9 @@ PartCheck checkPart(const TopoDS_Shape& solids, const PartLoadOptions& options, 
     }
   }
   if (found.unmeshed > 0)
-    out.warnings.push_back(std::to_string(found.unmeshed) + " face" + (found.unmeshed > 1 ? "s" : "") +
-                           " could not be meshed and were not searched for crossings");
+    out.warnings.push_back(std::to_string(found.unmeshed) +
+                           (found.unmeshed > 1 ? " faces could not be meshed and were" : " face could not be meshed and was") +
+                           " not searched for crossings");
   if (found.truncated)
     out.warnings.push_back("the crossing search confirmed only its first candidates: faces may cross elsewhere");
   if (found.meshingStopped)
