@@ -1032,5 +1032,29 @@ TEST(MeshPenetration, OcctFailingWhileBuildingIsOneClearError) {
   }
 }
 
+// Damaged parts the load sends to the mesh back end, whose curved faces' parameters
+// contradict their edges (fuzz inputs: a loft with a pole 4 km off, a cone whose bottom
+// circle runs diagonally across its side): BRepMesh at 0.01 mm ran for minutes. Those faces
+// are now filled from their edges, and the load says which; a cone whose base then has no
+// triangles fails with one line.
+TEST(MeshPenetration, FacesContradictingTheirEdgesAreFilledFromThem) {
+  const auto load = [](const std::string& seed) {
+    return PartModel::fromBrepText(
+        test::readFile(std::filesystem::path(HG_TEST_DATA_DIR) / "../fuzz/corpus/brep" / seed),
+        LengthUnit::Millimetre, seed);
+  };
+  const PartModelPtr loft = load("mesh_curve_off_face_b.brep");
+  ASSERT_EQ(loft->backendChoice().backend, Backend::Mesh);
+  EXPECT_NE(std::find(loft->warnings().begin(), loft->warnings().end(),
+                      "face 1 is filled from its edges in the mesh: edge 2 cannot be followed on it"),
+            loft->warnings().end());
+  const Tessellation mesh = tessellate(*loft, kDefaultDeflection_m);
+  EXPECT_NE(std::find(mesh.filledFaces.begin(), mesh.filledFaces.end(), 1), mesh.filledFaces.end());
+  EXPECT_GT(mesh.triangles.size(), 100u);
+  EXPECT_NE(makePenetration(loft), nullptr);
+  const PartModelPtr cone = load("mesh_cone_diagonal_pcurve_a.brep");
+  EXPECT_THROW(makePenetration(cone), GeometryError);
+}
+
 }  // namespace
 }  // namespace hg::geometry

@@ -1,11 +1,16 @@
 #include "curve_on_face.hpp"
 
+#include <Adaptor3d_CurveOnSurface.hxx>
+#include <BRepAdaptor_Curve.hxx>
+#include <BRepLib_ValidateEdge.hxx>
 #include <BRep_Tool.hxx>
 #include <GeomAdaptor_Surface.hxx>
 #include <Geom_Curve.hxx>
 #include <Precision.hxx>
 #include <Standard_Failure.hxx>
+#include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
 #include <gp_Pnt2d.hxx>
 
@@ -105,6 +110,39 @@ std::string CurveOnFace::seamOnItself() const {
     if (!(curve->Value(t).Distance(other->Value(t)) <= Precision::PConfusion())) return "";
   }
   return "is a seam whose two curves coincide";
+}
+
+double curveOnFaceDeviation(const TopoDS_Edge& edge, const TopoDS_Face& face) {
+  try {
+    if (BRep_Tool::Degenerated(edge) || !BRep_Tool::IsGeometric(edge)) return 0;
+    const Handle(Adaptor3d_Curve) reference = new BRepAdaptor_Curve(edge);
+    const BRepAdaptor_Curve onFace(edge, face);
+    if (!onFace.IsCurveOnSurface()) return 0;  // no curve on this face: nothing to compare
+    const Handle(Adaptor3d_CurveOnSurface) other = new Adaptor3d_CurveOnSurface(onFace.CurveOnSurface());
+    BRepLib_ValidateEdge validate(reference, other, BRep_Tool::SameParameter(edge));
+    validate.Process();
+    return validate.IsDone() ? validate.GetMaxDistance() : HUGE_VAL;
+  } catch (const Standard_Failure&) {
+    return HUGE_VAL;
+  }
+}
+
+std::vector<FaceOffItsEdges> curvedFacesOffTheirEdges(const TopoDS_Shape& shape, double limit) {
+  TopTools_IndexedMapOfShape faces, edges;
+  TopExp::MapShapes(shape, TopAbs_FACE, faces);
+  TopExp::MapShapes(shape, TopAbs_EDGE, edges);
+  std::vector<FaceOffItsEdges> off;
+  for (int f = 1; f <= faces.Extent(); ++f) {
+    const TopoDS_Face& face = TopoDS::Face(faces(f));
+    if (isPlane(face)) continue;
+    FaceOffItsEdges worst{f, 0, 0};
+    for (TopExp_Explorer e(face, TopAbs_EDGE); e.More(); e.Next()) {
+      const double d = curveOnFaceDeviation(TopoDS::Edge(e.Current()), face);
+      if (!(d <= worst.distance)) worst = {f, edges.FindIndex(e.Current()), d};
+    }
+    if (!(worst.distance <= limit)) off.push_back(worst);
+  }
+  return off;
 }
 
 std::string firstCurveOnFace(const TopoDS_Shape& shape, const std::function<std::string(const CurveOnFace&)>& why) {

@@ -10,6 +10,7 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace hg::geometry {
 
@@ -48,6 +49,29 @@ inline constexpr double kMaxDegenerateSpread = 0.01;
 // 25 turns 1.8 s, 63 turns 10.7 s, 98 turns never ended, found by fuzz_brep); the slack is
 // for writers' round-off.
 inline constexpr double kMaxEdgeTurns = 1.01;
+
+// How far an edge's curve on a face strays from its 3D curve at most (OCCT's
+// BRepLib_ValidateEdge, what BRepCheck compares with the edge's tolerance), in shape units;
+// infinite if OCCT cannot tell.
+double curveOnFaceDeviation(const TopoDS_Edge& edge, const TopoDS_Face& face);
+
+// A face whose edges lie off it: an edge's curve on the face strays from its 3D curve by
+// `distance`. 1-based indices in TopExp::MapShapes order of the shape.
+struct FaceOffItsEdges {
+  int face = 0, edge = 0;
+  double distance = 0;
+};
+// The curved faces with an edge straying more than `limit` from them, each once (its worst
+// edge). Planes are left out: filling one from its edges is what meshing it does, and a
+// plane's edges stray where a FreeCAD part's outline crosses itself (5 mm on a 5 mm prism).
+std::vector<FaceOffItsEdges> curvedFacesOffTheirEdges(const TopoDS_Shape& shape, double limit);
+// A damaged part's curved faces whose edges stray from them by more than this share of its
+// size are not meshed by BRepMesh: the mesh fills them from their edges (tessellation.cpp),
+// and the load says so (part_check.cpp). ShapeFix heals strays up to 1e-4 of the size;
+// beyond a hundred times that, the face is not what its edges say, and BRepMesh at a fine
+// deflection ran for minutes on such faces (a cone whose bottom circle ran diagonally
+// across it, 54% of the part's size off; a loft's side whose edge had a pole 4 km off).
+inline constexpr double kMaxEdgeStray = 0.01;
 
 // The first of the shape's curves on faces for which `why` says something, as "edge 3 <why>
 // on face 1"; "" if none. OCCT failing to evaluate one is itself an answer ("cannot be

@@ -24,6 +24,7 @@
 #include <utility>
 #include <vector>
 
+#include "curve_on_face.hpp"
 #include "hapticgrasp/geometry/face_crossings.hpp"
 #include "hapticgrasp/geometry/shape_validity.hpp"
 #include "shape_healing.hpp"
@@ -197,6 +198,23 @@ std::string overlapWarning(const std::vector<SolidOverlap>& overlaps, const Topo
          " in all: the mass properties count it twice (solids " + each + ")";
 }
 
+// What the mesh does with faces whose edges stray from them (tessellation.cpp), in one line.
+std::string filledFromEdges(const std::vector<FaceOffItsEdges>& off, double metresPerUnit) {
+  const auto worst = std::max_element(off.begin(), off.end(), [](const FaceOffItsEdges& a, const FaceOffItsEdges& b) {
+    return a.distance < b.distance;
+  });
+  char stray[64] = "cannot be followed on";  // OCCT could not compare the curves
+  if (std::isfinite(worst->distance))
+    std::snprintf(stray, sizeof stray, "lies %.3g mm off", worst->distance * metresPerUnit * 1e3);
+  const std::string edge = "edge " + std::to_string(worst->edge) + " " + stray;
+  if (off.size() == 1)
+    return "face " + std::to_string(worst->face) + " is filled from its edges in the mesh: " + edge + " it";
+  std::string faces;
+  for (const FaceOffItsEdges& f : off) faces += (faces.empty() ? "" : ", ") + std::to_string(f.face);
+  return std::to_string(off.size()) + " faces are filled from their edges in the mesh (faces " + faces + "): " + edge +
+         " face " + std::to_string(worst->face);
+}
+
 BackendChoice robustBackend(const std::string& defect) {
 #ifdef HG_WITH_EMBREE
   return {Backend::Mesh, "mesh 0.01 mm: " + defect + " (not healable); the exact back end would answer wrongly there",
@@ -236,6 +254,8 @@ PartCheck checkPart(const TopoDS_Shape& solids, const PartLoadOptions& options, 
       found = again;
     } else {
       out.choice = robustBackend(notHealable.empty() ? found.defect : found.defect + "; " + notHealable);
+      if (const auto off = curvedFacesOffTheirEdges(solids, kMaxEdgeStray * diagonal); !off.empty())
+        out.warnings.push_back(filledFromEdges(off, metresPerUnit));
     }
   }
   if (found.unmeshed > 0)

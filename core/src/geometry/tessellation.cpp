@@ -6,6 +6,7 @@
 #include <BRepMesh_Triangulator.hxx>
 #include <BRepTools.hxx>
 #include <BRepTools_WireExplorer.hxx>
+#include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <GCPnts_TangentialDeflection.hxx>
 #include <Poly_PolygonOnTriangulation.hxx>
@@ -14,6 +15,7 @@
 #include <TColStd_SequenceOfInteger.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
+#include <TopoDS_Compound.hxx>
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Wire.hxx>
 #include <gp_Ax3.hxx>
@@ -24,6 +26,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "curve_on_face.hpp"
 #include "loop_crossings.hpp"
 
 namespace hg::geometry {
@@ -229,6 +232,33 @@ std::vector<Triangle> fillFace(const TopoDS_Face& face, double deflection) {
   return triangles;
 }
 
+// BRepMesh on the copy (`copier`'s shape), but for the faces of a damaged part whose edges stray from them
+// by more than kMaxEdgeStray of its size: with the face's parameters contradicting its
+// edges, BRepMesh at a fine deflection ran for minutes (a cone whose bottom circle ran
+// diagonally across it; fuzz inputs). Those are filled from their edges instead, as
+// faces BRepMesh leaves without triangles are. A sound part's edges lie within their
+// tolerances, and its faces are not looked at.
+// Returns whether BRepMesh says it is done.
+bool meshFacesOnTheirEdges(const PartModel& part, const BRepBuilderAPI_Copy& copier, const TopoDS_Shape& copy,
+                           double deflection, double angularDeflection_rad) {
+  std::vector<FaceOffItsEdges> off;
+  if (part.backendChoice().backend != Backend::Exact)
+    off = curvedFacesOffTheirEdges(part.shape(), kMaxEdgeStray * part.characteristicLength() / part.metresPerUnit());
+  if (off.empty()) return BRepMesh_IncrementalMesh(copy, deflection, false, angularDeflection_rad, false).IsDone();
+  TopoDS_Compound faces;
+  BRep_Builder builder;
+  builder.MakeCompound(faces);
+  const TopTools_IndexedMapOfShape& all = part.faces();
+  for (int f = 1, k = 0; f <= all.Extent(); ++f) {
+    if (k < static_cast<int>(off.size()) && off[k].face == f) {
+      ++k;
+      continue;
+    }
+    builder.Add(faces, copier.ModifiedShape(all(f)));
+  }
+  return BRepMesh_IncrementalMesh(faces, deflection, false, angularDeflection_rad, false).IsDone();
+}
+
 }  // namespace
 
 double Tessellation::area() const {
@@ -246,8 +276,8 @@ Tessellation tessellate(const PartModel& part, double deflection_m, double angul
   BRepBuilderAPI_Copy copier(part.shape(), true, false);
   TopoDS_Shape shape = copier.Shape();
   BRepTools::Clean(shape);
-  BRepMesh_IncrementalMesh mesher(shape, deflection_m / s, false, angularDeflection_rad, false);
-  if (!mesher.IsDone()) throw GeometryError("tessellation failed");
+  if (!meshFacesOnTheirEdges(part, copier, shape, deflection_m / s, angularDeflection_rad))
+    throw GeometryError("tessellation failed");
 
   Tessellation mesh;
   mesh.deflection_m = deflection_m;

@@ -18,8 +18,10 @@
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
 
+#include <cmath>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "geometry/curve_on_face.hpp"
 
@@ -105,6 +107,42 @@ TEST(CurveOnFace, ASeamWhoseTwoCurvesAreOneIsNamed) {
     BRep_Builder().UpdateEdge(edge, curve, Handle(Geom2d_Curve)::DownCast(curve->Copy()), side, 1e-7);
   }
   EXPECT_EQ(damagedGeometry(cylinder), "edge 2 is a seam whose two curves coincide on face 1");
+}
+
+// A damaged loft (a pole of its bottom edge 4 km off; a fuzz input): BRepMesh at 0.01 mm
+// ran for minutes on its side. Edge 2 has an empty range on the side, face 1, so OCCT
+// cannot compare its curves there; edge 3 lies 17.7 mm off face 3, a plane, which is left
+// out. A damaged cone's bottom circle runs 11.9 mm off its side. A real part's edges lie on
+// their faces.
+TEST(CurveOnFace, CurvedFacesWhoseEdgesStrayFromThemAreFound) {
+  const std::vector<FaceOffItsEdges> off = curvedFacesOffTheirEdges(readSeed("mesh_curve_off_face_a.brep"), 1.0);
+  ASSERT_EQ(off.size(), 1u);
+  EXPECT_EQ(off[0].face, 1);
+  EXPECT_EQ(off[0].edge, 2);
+  EXPECT_FALSE(std::isfinite(off[0].distance));
+  const std::vector<FaceOffItsEdges> cone = curvedFacesOffTheirEdges(readSeed("mesh_cone_diagonal_pcurve_a.brep"), 1.0);
+  ASSERT_EQ(cone.size(), 1u);
+  EXPECT_EQ(cone[0].face, 1);
+  EXPECT_EQ(cone[0].edge, 3);
+  EXPECT_NEAR(cone[0].distance, 11.93, 0.01);
+  for (const TopoDS_Shape& shape : {BRepPrimAPI_MakeCylinder(50, 400).Shape(), BRepPrimAPI_MakeTorus(30, 10).Shape(),
+                                    BRepPrimAPI_MakeSphere(20).Shape(), BRepPrimAPI_MakeCone(50, 0, 100).Shape(),
+                                    readSeed("loft.brep")})
+    EXPECT_TRUE(curvedFacesOffTheirEdges(shape, 1e-6).empty());
+  // A cylinder's top circle lifted 2 mm off its side face: found at less than 2, not beyond.
+  const TopoDS_Shape cylinder = BRepBuilderAPI_Copy(BRepPrimAPI_MakeCylinder(50, 400).Shape()).Shape();
+  TopTools_IndexedMapOfShape edges;
+  TopExp::MapShapes(cylinder, TopAbs_EDGE, edges);
+  for (int i = 1; i <= edges.Extent(); ++i) {
+    double first = 0, last = 0;
+    const TopoDS_Edge& edge = TopoDS::Edge(edges(i));
+    const Handle(Geom_Curve) curve = BRep_Tool::Curve(edge, first, last);
+    if (curve->IsPeriodic() && curve->Value(first).Z() > 1) curve->Translate(gp_Vec(0, 0, 2));
+  }
+  const std::vector<FaceOffItsEdges> lifted = curvedFacesOffTheirEdges(cylinder, 1.9);
+  ASSERT_FALSE(lifted.empty());
+  EXPECT_NEAR(lifted[0].distance, 2.0, 1e-4);  // OCCT adds 1e-5 of it, to be safe
+  EXPECT_TRUE(curvedFacesOffTheirEdges(cylinder, 2.1).empty());
 }
 
 // The turns of an edge's own range, made here: once and a writer's round-off load; twice
