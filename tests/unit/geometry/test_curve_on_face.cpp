@@ -20,6 +20,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,22 @@ TopoDS_Shape readSeed(const std::string& name) {
   const fs::path path = fs::path(HG_TEST_DATA_DIR) / "../fuzz/corpus/brep" / name;
   EXPECT_TRUE(BRepTools::Read(shape, path.c_str(), builder)) << path;
   return shape;
+}
+
+// A copy of a 50 x 400 mm cylinder, `change` applied to each of its circles (edge, 3D
+// curve, its range): the damage under test, made by hand.
+TopoDS_Shape cylinderWithCircles(
+    const std::function<void(const TopoDS_Edge&, const Handle(Geom_Curve)&, double, double)>& change) {
+  const TopoDS_Shape cylinder = BRepBuilderAPI_Copy(BRepPrimAPI_MakeCylinder(50, 400).Shape()).Shape();
+  TopTools_IndexedMapOfShape edges;
+  TopExp::MapShapes(cylinder, TopAbs_EDGE, edges);
+  for (int i = 1; i <= edges.Extent(); ++i) {
+    double first = 0, last = 0;
+    const TopoDS_Edge& edge = TopoDS::Edge(edges(i));
+    const Handle(Geom_Curve) curve = BRep_Tool::Curve(edge, first, last);
+    if (curve->IsPeriodic()) change(edge, curve, first, last);
+  }
+  return cylinder;
 }
 
 std::string emptyRanges(const TopoDS_Shape& shape) {
@@ -130,15 +147,10 @@ TEST(CurveOnFace, CurvedFacesWhoseEdgesStrayFromThemAreFound) {
                                     readSeed("loft.brep")})
     EXPECT_TRUE(curvedFacesOffTheirEdges(shape, 1e-6).empty());
   // A cylinder's top circle lifted 2 mm off its side face: found at less than 2, not beyond.
-  const TopoDS_Shape cylinder = BRepBuilderAPI_Copy(BRepPrimAPI_MakeCylinder(50, 400).Shape()).Shape();
-  TopTools_IndexedMapOfShape edges;
-  TopExp::MapShapes(cylinder, TopAbs_EDGE, edges);
-  for (int i = 1; i <= edges.Extent(); ++i) {
-    double first = 0, last = 0;
-    const TopoDS_Edge& edge = TopoDS::Edge(edges(i));
-    const Handle(Geom_Curve) curve = BRep_Tool::Curve(edge, first, last);
-    if (curve->IsPeriodic() && curve->Value(first).Z() > 1) curve->Translate(gp_Vec(0, 0, 2));
-  }
+  const TopoDS_Shape cylinder =
+      cylinderWithCircles([](const TopoDS_Edge&, const Handle(Geom_Curve)& curve, double first, double) {
+        if (curve->Value(first).Z() > 1) curve->Translate(gp_Vec(0, 0, 2));
+      });
   const std::vector<FaceOffItsEdges> lifted = curvedFacesOffTheirEdges(cylinder, 1.9);
   ASSERT_FALSE(lifted.empty());
   EXPECT_NEAR(lifted[0].distance, 2.0, 1e-4);  // OCCT adds 1e-5 of it, to be safe
@@ -149,15 +161,10 @@ TEST(CurveOnFace, CurvedFacesWhoseEdgesStrayFromThemAreFound) {
 // does not.
 TEST(CurveOnFace, AnEdgeMayGoRoundOnceWithRoundOff) {
   for (const double turns : {1.0, 1.005, 2.0}) {
-    const TopoDS_Shape cylinder = BRepBuilderAPI_Copy(BRepPrimAPI_MakeCylinder(50, 400).Shape()).Shape();
-    TopTools_IndexedMapOfShape edges;
-    TopExp::MapShapes(cylinder, TopAbs_EDGE, edges);
-    for (int i = 1; i <= edges.Extent(); ++i) {
-      double first = 0, last = 0;
-      const TopoDS_Edge& edge = TopoDS::Edge(edges(i));
-      const Handle(Geom_Curve) curve = BRep_Tool::Curve(edge, first, last);
-      if (curve->IsPeriodic()) BRep_Builder().Range(edge, first, first + turns * curve->Period(), true);
-    }
+    const TopoDS_Shape cylinder =
+        cylinderWithCircles([turns](const TopoDS_Edge& edge, const Handle(Geom_Curve)& curve, double first, double) {
+          BRep_Builder().Range(edge, first, first + turns * curve->Period(), true);
+        });
     EXPECT_EQ(damagedGeometry(cylinder).empty(), turns < 1.01) << turns << " turns: " << damagedGeometry(cylinder);
   }
 }
