@@ -175,6 +175,10 @@ TEST(CurveOnFace, ADegenerateEdgeThatIsNoPointIsNamed) {
   EXPECT_EQ(damagedGeometry(readSeed("timeout_false_degenerate_apex.brep")),
             "edge 1 is marked degenerate yet spans 176 (the part's vertices 91.4) on face 1");
   EXPECT_EQ(damagedGeometry(readSeed("cone_tip.brep")), "");  // the file it was made from
+  // The apex's curve at v = 21 for 21.54 (a lost digit): a circle of 0.4 mm, which the
+  // edge's tolerance, read as 1 mm, used to cover; BRepMesh's split of it never ended.
+  EXPECT_EQ(damagedGeometry(readSeed("timeout_false_degenerate_within_tolerance.brep")),
+            "edge 1 is marked degenerate yet spans 0.402 (the part's vertices 21.5) on face 1");
 }
 
 }  // namespace
