@@ -1056,5 +1056,22 @@ TEST(MeshPenetration, FacesContradictingTheirEdgesAreFilledFromThem) {
   EXPECT_THROW(makePenetration(cone), GeometryError);
 }
 
+// A loft with a few digits lost in its poles (fuzz_brep_backend; not a fuzz seed, since it
+// takes the whole deadline): its edges lie within 0.0001 mm of its faces, yet BRepMesh at
+// 0.01 mm worked on it for more than 30 s and 2 GB. A damaged part's mesh has a deadline,
+// and says it passed.
+TEST(MeshPenetration, ADamagedPartsMeshStopsAtItsDeadline) {
+  const PartModelPtr loft = PartModel::fromBrepText(
+      test::readFile(std::filesystem::path(HG_TEST_DATA_DIR) / "damaged_loft_slow_mesh.brep"), LengthUnit::Millimetre,
+      "loft");
+  ASSERT_EQ(loft->backendChoice().backend, Backend::Mesh);
+  try {
+    makePenetration(loft);
+    ADD_FAILURE() << "the damaged loft was meshed";
+  } catch (const GeometryError& e) {
+    EXPECT_EQ(std::string(e.what()), "meshing the damaged part did not finish within 5 s");
+  }
+}
+
 }  // namespace
 }  // namespace hg::geometry

@@ -8,6 +8,9 @@
 #include <BRepTools_WireExplorer.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
+#include <IMeshTools_Parameters.hxx>
+#include <Message_ProgressIndicator.hxx>
+#include <Message_ProgressScope.hxx>
 #include <GCPnts_TangentialDeflection.hxx>
 #include <Poly_PolygonOnTriangulation.hxx>
 #include <Poly_Triangulation.hxx>
@@ -22,6 +25,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <unordered_map>
 #include <vector>
@@ -31,6 +35,10 @@
 
 namespace hg::geometry {
 namespace {
+
+// How long BRepMesh may work on a damaged part's mesh (MeshingDeadline): within the 10 s
+// in which every input gets its result or one line.
+constexpr double kDamagedMeshingSeconds = 5;
 
 // Welds nodes that lie within `tolerance` of each other (faces duplicate the nodes they
 // share along an edge, and a periodic face duplicates its seam).
@@ -238,13 +246,49 @@ std::vector<Triangle> fillFace(const TopoDS_Face& face, double deflection) {
 // diagonally across it; fuzz inputs). Those are filled from their edges instead, as
 // faces BRepMesh leaves without triangles are. A sound part's edges lie within their
 // tolerances, and its faces are not looked at.
+// BRepMesh asks its progress indicator whether to stop once a face and at each new vertex:
+// this one says stop once a deadline has passed. Only a damaged part's mesh gets one: a
+// loft with a few digits lost in its poles, its edges within 0.0001 mm of its faces, kept
+// BRepMesh busy at 0.01 mm for more than 30 s and 2 GB (fuzz_brep_backend), where the
+// sound loft takes 3.8 s. A deadline, unlike a count, differs between machines; it decides
+// only whether such a part gets its mesh or one line saying it did not.
+class MeshingDeadline final : public Message_ProgressIndicator {
+ public:
+  explicit MeshingDeadline(double seconds)
+      : deadline_(std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                          std::chrono::duration<double>(seconds))) {}
+  Standard_Boolean UserBreak() override { return passed_ = passed_ || std::chrono::steady_clock::now() > deadline_; }
+  void Show(const Message_ProgressScope&, const Standard_Boolean) override {}
+  bool passed() const { return passed_; }
+
+ private:
+  std::chrono::steady_clock::time_point deadline_;
+  bool passed_ = false;
+};
+
+// BRepMesh on `shape`; throws when a damaged part's deadline passed.
+bool mesh(const TopoDS_Shape& shape, double deflection, double angularDeflection_rad, bool damaged) {
+  if (!damaged) return BRepMesh_IncrementalMesh(shape, deflection, false, angularDeflection_rad, false).IsDone();
+  IMeshTools_Parameters parameters;
+  parameters.Deflection = deflection;
+  parameters.Angle = angularDeflection_rad;
+  parameters.InParallel = false;
+  const Handle(MeshingDeadline) deadline = new MeshingDeadline(kDamagedMeshingSeconds);
+  const BRepMesh_IncrementalMesh mesher(shape, parameters, deadline->Start());
+  if (deadline->passed())
+    throw GeometryError("meshing the damaged part did not finish within " +
+                        std::to_string(static_cast<int>(kDamagedMeshingSeconds)) + " s");
+  return mesher.IsDone();
+}
+
 // Returns whether BRepMesh says it is done.
 bool meshFacesOnTheirEdges(const PartModel& part, const BRepBuilderAPI_Copy& copier, const TopoDS_Shape& copy,
                            double deflection, double angularDeflection_rad) {
   std::vector<FaceOffItsEdges> off;
-  if (part.backendChoice().backend != Backend::Exact)
+  const bool damaged = part.backendChoice().backend != Backend::Exact;
+  if (damaged)
     off = curvedFacesOffTheirEdges(part.shape(), kMaxEdgeStray * part.characteristicLength() / part.metresPerUnit());
-  if (off.empty()) return BRepMesh_IncrementalMesh(copy, deflection, false, angularDeflection_rad, false).IsDone();
+  if (off.empty()) return mesh(copy, deflection, angularDeflection_rad, damaged);
   TopoDS_Compound faces;
   BRep_Builder builder;
   builder.MakeCompound(faces);
@@ -256,7 +300,7 @@ bool meshFacesOnTheirEdges(const PartModel& part, const BRepBuilderAPI_Copy& cop
     }
     builder.Add(faces, copier.ModifiedShape(all(f)));
   }
-  return BRepMesh_IncrementalMesh(faces, deflection, false, angularDeflection_rad, false).IsDone();
+  return mesh(faces, deflection, angularDeflection_rad, damaged);
 }
 
 }  // namespace
