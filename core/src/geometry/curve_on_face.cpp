@@ -6,6 +6,7 @@
 #include <BRep_Tool.hxx>
 #include <GeomAdaptor_Surface.hxx>
 #include <Geom_Curve.hxx>
+#include <Geom_ElementarySurface.hxx>
 #include <Precision.hxx>
 #include <Standard_Failure.hxx>
 #include <TopExp.hxx>
@@ -17,16 +18,23 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <tuple>
 
 #include "shape_names.hpp"
 
 namespace hg::geometry {
 namespace {
 
-// How far p lies from a direction's parameters [lo, hi], in periods (periodic) or spans.
-bool runsAway(double p, double lo, double hi, bool periodic, double period) {
+// OCCT bounds an unbounded direction by +-Precision::Infinite() (2e100), a finite number.
+bool unbounded(double lo, double hi) {
+  return !std::isfinite(lo) || !std::isfinite(hi) || Precision::IsInfinite(lo) || Precision::IsInfinite(hi);
+}
+
+// How far p lies from a direction's parameters [lo, hi], in periods (periodic) or spans;
+// an unbounded direction's (a cylinder's or cone's length) within `reach` of 0.
+bool runsAway(double p, double lo, double hi, bool periodic, double period, double reach) {
   if (periodic) return !(std::abs(p - lo) <= kMaxPeriods * period);  // NaN runs away
-  if (!std::isfinite(lo) || !std::isfinite(hi)) return !std::isfinite(p);  // a plane's: any finite value
+  if (unbounded(lo, hi)) return !(std::abs(p) <= reach);
   const double span = std::max(hi - lo, Precision::PConfusion());
   return !(p >= lo - kMaxPeriods * span && p <= hi + kMaxPeriods * span);
 }
@@ -53,15 +61,26 @@ double vertexSpan(const TopoDS_Shape& shape) {
   return lo.X() <= hi.X() ? (hi - lo).Modulus() : 0.0;
 }
 
+// How far the shape's farthest vertex lies from the origin.
+double farthestVertex(const TopoDS_Shape& shape) {
+  double farthest = 0;
+  for (TopExp_Explorer v(shape, TopAbs_VERTEX); v.More(); v.Next())
+    farthest = std::max(farthest, BRep_Tool::Pnt(TopoDS::Vertex(v.Current())).XYZ().Modulus());
+  return farthest;
+}
+
 }  // namespace
 
 bool CurveOnFace::emptyRange() const {
   return !(std::isfinite(first) && std::isfinite(last) && last - first > Precision::PConfusion());
 }
 
-std::string CurveOnFace::runaway() const {
+std::string CurveOnFace::runaway(double partReach) const {
   const Handle(Geom_Surface) surface = BRep_Tool::Surface(face);
   if (surface.IsNull() || emptyRange()) return "";
+  // A length along an elementary surface is measured from its location.
+  const Handle(Geom_ElementarySurface) elementary = Handle(Geom_ElementarySurface)::DownCast(surface);
+  const double reach = partReach + (elementary.IsNull() ? 0.0 : elementary->Location().XYZ().Modulus());
   const bool uPeriodic = surface->IsUPeriodic(), vPeriodic = surface->IsVPeriodic();
   const double uPeriod = uPeriodic ? surface->UPeriod() : 0, vPeriod = vPeriodic ? surface->VPeriod() : 0;
   double u1 = 0, u2 = 0, v1 = 0, v2 = 0;
@@ -69,10 +88,12 @@ std::string CurveOnFace::runaway() const {
   constexpr int kSamples = 8;
   for (int i = 0; i <= kSamples; ++i) {
     const gp_Pnt2d uv = curve->Value(first + (last - first) * i / kSamples);
-    if (runsAway(uv.X(), u1, u2, uPeriodic, uPeriod))
-      return uPeriodic ? "runs more than " + kTimes + " times round" : "runs " + kTimes + " times its size off";
-    if (runsAway(uv.Y(), v1, v2, vPeriodic, vPeriod))
-      return vPeriodic ? "runs more than " + kTimes + " times round" : "runs " + kTimes + " times its size off";
+    for (const auto& [p, lo, hi, periodic, period] : {std::tuple{uv.X(), u1, u2, uPeriodic, uPeriod},
+                                                       std::tuple{uv.Y(), v1, v2, vPeriodic, vPeriod}}) {
+      if (!runsAway(p, lo, hi, periodic, period, reach)) continue;
+      if (periodic) return "runs more than " + kTimes + " times round";
+      return unbounded(lo, hi) ? "runs " + kTimes + " times the part's size off" : "runs " + kTimes + " times its size off";
+    }
   }
   return "";
 }
@@ -188,11 +209,13 @@ std::string damagedGeometry(const TopoDS_Shape& shape) {
       return subShapeName(shape, edge) + "'s curve cannot be evaluated";
     }
   }
-  if (std::string runaway = firstCurveOnFace(shape, [](const CurveOnFace& c) { return c.runaway(); }); !runaway.empty())
+  const double size = vertexSpan(shape);
+  const double reach = kMaxPeriods * (size + farthestVertex(shape));
+  if (std::string runaway = firstCurveOnFace(shape, [reach](const CurveOnFace& c) { return c.runaway(reach); });
+      !runaway.empty())
     return runaway;
   if (std::string seam = firstCurveOnFace(shape, [](const CurveOnFace& c) { return c.seamOnItself(); }); !seam.empty())
     return seam;
-  const double size = vertexSpan(shape);
   return firstCurveOnFace(shape, [size](const CurveOnFace& c) { return c.falseDegenerate(size); });
 }
 

@@ -27,8 +27,10 @@ struct CurveOnFace {
   // bounded one (a sphere's latitude). OCCT brings a parameter into the period one period at
   // a time (classification, bounds), and meshes the curve's whole range: beyond 2^53 periods
   // the one never ends, and the other takes as long; a thousand is more than any real face
-  // winds.
-  std::string runaway() const;
+  // winds. An unbounded direction (a cylinder's or cone's length) must stay within
+  // `partReach` of the surface's location (a cone's seam at v = -4.4e98 had BRepMesh lay a
+  // grid of nodes down its whole length until memory ran out).
+  std::string runaway(double partReach) const;
   // Where a degenerate edge (a cone's apex, a sphere's pole) is not a point on this face,
   // in words, or "": its curve on the face maps to points more than kMaxDegenerateSpread of
   // `partSize` apart, whatever the edge's tolerance (a cone's flipped angle put its "apex"

@@ -88,6 +88,13 @@ TEST(CurveOnFace, ACurveThatRunsFarOffABoundedDirectionIsNamed) {
             "edge 2 runs 1000 times its size off on face 1");
 }
 
+// A cone's seam at v = -4.4e101 (a run of fours): a cone's length is unbounded (OCCT says
+// +-2e100), and BRepMesh laid nodes down the whole of it until memory ran out.
+TEST(CurveOnFace, ACurveFarDownAnUnboundedDirectionIsNamed) {
+  EXPECT_EQ(damagedGeometry(readSeed("oom_cone_seam_far_down.brep")),
+            "edge 2 runs 1000 times the part's size off on face 1");
+}
+
 // BRepMesh tessellates an edge without a 3D curve through a curve on a face: on a damaged
 // cylinder (a curve index past the table's end) it never ended.
 TEST(CurveOnFace, AnEdgeWithoutA3dCurveIsNamed) {
