@@ -33,7 +33,8 @@ struct CurveOnFace {
   std::string runaway(double partReach) const;
   // Where a degenerate edge (a cone's apex, a sphere's pole) is not a point on this face,
   // in words, or "": its curve on the face maps to points more than kMaxDegenerateSpread of
-  // `partSize` apart, whatever the edge's tolerance (a cone's flipped angle put its "apex"
+  // `partSize` (or of the span of the face's other edges, if smaller) apart, whatever the
+  // edge's tolerance (a cone's flipped angle put its "apex"
   // on a circle of 88 mm, a lost digit on one of 0.4 mm on a 21 mm cone whose edge claimed a
   // 1 mm tolerance; on each BRepMesh's edge tessellation never ended).
   std::string falseDegenerate(double partSize) const;

@@ -180,12 +180,16 @@ TEST(CurveOnFace, AnEdgeMayGoRoundOnceWithRoundOff) {
 // lies on a circle of 88 mm, and BRepMesh's edge tessellation never ended on it.
 TEST(CurveOnFace, ADegenerateEdgeThatIsNoPointIsNamed) {
   EXPECT_EQ(damagedGeometry(readSeed("timeout_false_degenerate_apex.brep")),
-            "edge 1 is marked degenerate yet spans 176 (the part's vertices 91.4) on face 1");
+            "edge 1 is marked degenerate yet spans 176 (the part's size 22.7) on face 1");
   EXPECT_EQ(damagedGeometry(readSeed("cone_tip.brep")), "");  // the file it was made from
   // The apex's curve at v = 21 for 21.54 (a lost digit): a circle of 0.4 mm, which the
   // edge's tolerance, read as 1 mm, used to cover; BRepMesh's split of it never ended.
+  // The same 176 mm apex circle, with a vertex 196 m off stretching the part's size: the
+  // face's own edges give the size.
+  EXPECT_EQ(damagedGeometry(readSeed("timeout_false_degenerate_far_vertex.brep")),
+            "edge 1 is marked degenerate yet spans 176 (the part's size 22.7) on face 1");
   EXPECT_EQ(damagedGeometry(readSeed("timeout_false_degenerate_within_tolerance.brep")),
-            "edge 1 is marked degenerate yet spans 0.402 (the part's vertices 21.5) on face 1");
+            "edge 1 is marked degenerate yet spans 0.402 (the part's size 21.5) on face 1");
 }
 
 }  // namespace
