@@ -6,9 +6,6 @@
 #include <BRepBuilderAPI_Copy.hxx>
 #include <BRepMesh_IncrementalMesh.hxx>
 #include <BRepTopAdaptor_FClass2d.hxx>
-#include <IMeshTools_Parameters.hxx>
-#include <Message_ProgressIndicator.hxx>
-#include <Message_ProgressScope.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
@@ -39,6 +36,8 @@
 #include <optional>
 #include <utility>
 #include <vector>
+
+#include "meshing_limits.hpp"
 
 namespace hg::geometry {
 namespace {
@@ -391,23 +390,12 @@ struct FaceInfo {
   std::unique_ptr<PlanarRegion> region;  // planar faces
 };
 
-// BRepMesh asks its progress indicator whether to stop once a face or a new vertex: this
-// one says stop after a fixed number of asks, so that the budget is the same on every
-// machine. A damaged B-spline face kept BRepMesh's Delaunay busy for 9.8 s (48,195 asks;
-// fuzz_brep); real parts ask about six times a face (the 1,030-face sample plate 6,146, the
-// corpus at most 3,007 for 517 faces). Within 5,000 asks that face takes 0.5 s.
+// The crossing search's MeshingBudget (meshing_limits.hpp): a damaged B-spline face kept
+// BRepMesh's Delaunay busy for 9.8 s (48,195 asks; fuzz_brep); real parts ask about six
+// times a face (the 1,030-face sample plate 6,146, the corpus at most 3,007 for 517
+// faces). Within 5,000 asks that face takes 0.5 s.
 constexpr long kMeshingChecksAtLeast = 5'000;
 constexpr long kMeshingChecksPerFace = 50;
-class MeshingBudget final : public Message_ProgressIndicator {
- public:
-  explicit MeshingBudget(long checks) : left_(checks) {}
-  Standard_Boolean UserBreak() override { return --left_ < 0; }
-  void Show(const Message_ProgressScope&, const Standard_Boolean) override {}
-  bool spent() const { return left_ < 0; }
-
- private:
-  long left_;
-};
 
 class CrossingFinder {
  public:
@@ -481,13 +469,9 @@ class CrossingFinder {
         any = true;
       }
     if (!any) return;
-    IMeshTools_Parameters parameters;
-    parameters.Deflection = result_.deflection;
-    parameters.Angle = kAngularDeflection;
-    parameters.InParallel = false;
     const Handle(MeshingBudget) budget =
         new MeshingBudget(kMeshingChecksAtLeast + kMeshingChecksPerFace * static_cast<long>(faces_.size()));
-    BRepMesh_IncrementalMesh(curved, parameters, budget->Start());
+    meshWithin(curved, result_.deflection, kAngularDeflection, budget);
     result_.meshingStopped = budget->spent();
     for (int i = 0; i < static_cast<int>(faces_.size()) && i < copyFaces.Extent(); ++i) {
       if (faces_[i].planar) continue;

@@ -8,9 +8,6 @@
 #include <BRepTools_WireExplorer.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
-#include <IMeshTools_Parameters.hxx>
-#include <Message_ProgressIndicator.hxx>
-#include <Message_ProgressScope.hxx>
 #include <GCPnts_TangentialDeflection.hxx>
 #include <Poly_PolygonOnTriangulation.hxx>
 #include <Poly_Triangulation.hxx>
@@ -25,12 +22,12 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <unordered_map>
 #include <vector>
 
 #include "curve_on_face.hpp"
+#include "meshing_limits.hpp"
 #include "loop_crossings.hpp"
 
 namespace hg::geometry {
@@ -240,48 +237,27 @@ std::vector<Triangle> fillFace(const TopoDS_Face& face, double deflection) {
   return triangles;
 }
 
-// BRepMesh on the copy (`copier`'s shape), but for the faces of a damaged part whose edges stray from them
-// by more than kMaxEdgeStray of its size: with the face's parameters contradicting its
-// edges, BRepMesh at a fine deflection ran for minutes (a cone whose bottom circle ran
-// diagonally across it; fuzz inputs). Those are filled from their edges instead, as
-// faces BRepMesh leaves without triangles are. A sound part's edges lie within their
-// tolerances, and its faces are not looked at.
-// BRepMesh asks its progress indicator whether to stop once a face and at each new vertex:
-// this one says stop once a deadline has passed. Only a damaged part's mesh gets one: a
-// loft with a few digits lost in its poles, its edges within 0.0001 mm of its faces, kept
-// BRepMesh busy at 0.01 mm for more than 30 s and 2 GB (fuzz_brep_backend), where the
-// sound loft takes 3.8 s. A deadline, unlike a count, differs between machines; it decides
-// only whether such a part gets its mesh or one line saying it did not.
-class MeshingDeadline final : public Message_ProgressIndicator {
- public:
-  explicit MeshingDeadline(double seconds)
-      : deadline_(std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                                          std::chrono::duration<double>(seconds))) {}
-  Standard_Boolean UserBreak() override { return passed_ = passed_ || std::chrono::steady_clock::now() > deadline_; }
-  void Show(const Message_ProgressScope&, const Standard_Boolean) override {}
-  bool passed() const { return passed_; }
-
- private:
-  std::chrono::steady_clock::time_point deadline_;
-  bool passed_ = false;
-};
-
-// BRepMesh on `shape`; throws when a damaged part's deadline passed.
+// BRepMesh on `shape`. A damaged part's mesh stops at a deadline (MeshingDeadline): a loft
+// with a few digits lost in its poles, its edges within 0.0001 mm of its faces, kept
+// BRepMesh busy at 0.01 mm for more than 30 s and 2 GB (fuzz_brep_backend), where the sound
+// loft takes 3.8 s. Then it throws, in one line.
 bool mesh(const TopoDS_Shape& shape, double deflection, double angularDeflection_rad, bool damaged) {
   if (!damaged) return BRepMesh_IncrementalMesh(shape, deflection, false, angularDeflection_rad, false).IsDone();
-  IMeshTools_Parameters parameters;
-  parameters.Deflection = deflection;
-  parameters.Angle = angularDeflection_rad;
-  parameters.InParallel = false;
   const Handle(MeshingDeadline) deadline = new MeshingDeadline(kDamagedMeshingSeconds);
-  const BRepMesh_IncrementalMesh mesher(shape, parameters, deadline->Start());
+  const bool done = meshWithin(shape, deflection, angularDeflection_rad, deadline);
   if (deadline->passed())
     throw GeometryError("meshing the damaged part did not finish within " +
                         std::to_string(static_cast<int>(kDamagedMeshingSeconds)) + " s");
-  return mesher.IsDone();
+  return done;
 }
 
-// Returns whether BRepMesh says it is done.
+// BRepMesh on the copy (`copier`'s shape), but for the curved faces of a damaged part whose
+// edges stray from them by more than kMaxEdgeStray of its size: with the face's parameters
+// contradicting its edges, BRepMesh at a fine deflection ran for minutes (a cone whose
+// bottom circle ran diagonally across it; fuzz inputs). Those are filled from their edges
+// instead, as faces BRepMesh leaves without triangles are. A sound part's edges lie within
+// their tolerances, and its faces are not looked at. Returns whether BRepMesh says it is
+// done.
 bool meshFacesOnTheirEdges(const PartModel& part, const BRepBuilderAPI_Copy& copier, const TopoDS_Shape& copy,
                            double deflection, double angularDeflection_rad) {
   std::vector<FaceOffItsEdges> off;
