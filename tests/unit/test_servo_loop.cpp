@@ -12,10 +12,13 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 #include <thread>
 #include <vector>
 
 #include "alloc_counter.hpp"
+#include "hapticgrasp/grasp/multi_finger/multi_finger_grasp.hpp"
+#include "hapticgrasp/servo/grasp_engine.hpp"
 #include "hapticgrasp/servo/scripted_hand_device.hpp"
 #include "hapticgrasp/servo/servo_bench.hpp"
 #include "hapticgrasp/servo/pose_tracker.hpp"
@@ -678,7 +681,8 @@ TEST(ServoLoop, RunsOnTheCpuItIsGiven) {
 // Silent from `silentFrom_s` on.
 class ClockedScriptDevice : public device::Device {
  public:
-  explicit ClockedScriptDevice(double silentFrom_s = 1e9) : silentFrom_s_(silentFrom_s) {}
+  explicit ClockedScriptDevice(double silentFrom_s = 1e9, grasp::HandScript script = benchScript())
+      : script_(std::move(script)), silentFrom_s_(silentFrom_s) {}
   const device::DeviceSpec& spec() const noexcept override { return spec_; }
   bool read(device::DeviceSample& s) noexcept override {
     if (now_s_ >= silentFrom_s_) return false;
@@ -691,10 +695,50 @@ class ClockedScriptDevice : public device::Device {
   device::DeviceCommand last_;
 
  private:
-  grasp::HandScript script_ = benchScript();
+  grasp::HandScript script_;
   device::DeviceSpec spec_ = ScriptedHandDevice::defaultSpec();
   double silentFrom_s_;
 };
+
+// The bench's cylinder pinched across x by the multi-finger method, lifted 50 mm, carried
+// 100 mm along y in 0.4 s, held; the pinch carries 1.5 times the weight by friction.
+grasp::HandScript pinchLiftCarry() {
+  const grasp::multi_finger::MultiFingerParams k;
+  const double radius = 0.05, open = radius + 0.02;
+  const double in = radius - 1.5 * 2.0 * k.gravity.norm() / (2 * k.friction * k.stiffness);
+  std::vector<grasp::HandKey> keys;
+  const auto key = [&](double t, double x, const Vec3& shift) {
+    keys.push_back({t, {x, 0, 0}, {-x, 0, 0}, {0, 0, 0.1}, shift, 0});
+  };
+  key(0.0, open, Vec3::Zero());
+  key(0.3, in, Vec3::Zero());
+  key(0.6, in, Vec3(0, 0, 0.05));
+  key(1.0, in, Vec3(0, 0.1, 0.05));
+  key(1.5, in, Vec3(0, 0.1, 0.05));
+  return grasp::HandScript(std::move(keys), grasp::PartPose{Mat3::Identity(), Vec3(0.4, 0, 0.3)});
+}
+
+// Where the carried cylinder is at 1.5 s, stepped at 2 kHz with no tick between `gapFrom`
+// and `gapFrom + gap` (the next tick's dt is the whole gap), and the states seen.
+grasp::PartPose carriedThroughAGap(double gapFrom, double gap, std::string& states) {
+  auto device = std::make_shared<ClockedScriptDevice>(1e9, pinchLiftCarry());
+  const grasp::ScenePtr scene = benchScene();
+  ServoLoop loop(device, std::make_unique<MultiFingerEngine>(scene, 2), quietConfig());
+  const double period = 0.0005;
+  ServoSnapshot s;
+  double t = 0, previous = 0;
+  GraspState last = GraspState::Free;
+  states = grasp::toString(last);
+  for (int k = 0; t < 1.5; ++k, t += period) {
+    if (t >= gapFrom && t < gapFrom + period) t += gap;
+    device->now_s_ = t;
+    loop.step(t, k ? t - previous : 0.0);
+    previous = t;
+    EXPECT_TRUE(loop.read(s));
+    if (s.state != last) states += std::string(" ") + grasp::toString(last = s.state);
+  }
+  return posesIn(s, *scene)[0];
+}
 
 TEST(ServoLoop, StepRunsEveryStageWithoutAThreadAndRefusesOnceStarted) {
   auto device = std::make_shared<ClockedScriptDevice>(/*silentFrom_s=*/3.0);
@@ -718,6 +762,22 @@ TEST(ServoLoop, StepRunsEveryStageWithoutAThreadAndRefusesOnceStarted) {
   loop.start();
   EXPECT_THROW(loop.step(10.0, dt), std::logic_error);
   loop.stop();
+}
+
+// The servo thread held 250 ms mid-carry (the OS, the machine's host): the loop crosses the
+// gap in short steps with the hand moving between its two samples, so the part stays in the
+// pinch and ends where it ends without the gap. As one 250 ms step it slipped 45 mm.
+TEST(ServoLoop, ALateTickIsCrossedInShortSteps) {
+  std::string kept, late;
+  const grasp::PartPose onTime = carriedThroughAGap(99.0, 0.0, kept);
+  const grasp::PartPose held = carriedThroughAGap(0.75, 0.25, late);
+  std::printf("on time: %s, at (%.2f, %.2f, %.2f) mm; 250 ms late: %s, at (%.2f, %.2f, %.2f) mm\n", kept.c_str(),
+              1e3 * onTime.position.x(), 1e3 * onTime.position.y(), 1e3 * onTime.position.z(), late.c_str(),
+              1e3 * held.position.x(), 1e3 * held.position.y(), 1e3 * held.position.z());
+  EXPECT_EQ(kept, "FREE GRASP MANIPULATE");
+  EXPECT_EQ(late, kept);
+  EXPECT_NEAR(onTime.position.y(), 0.1, 0.002);  // carried with the hand
+  EXPECT_LT((held.position - onTime.position).norm(), 0.001);
 }
 
 TEST(ServoLoop, StepIsDeterministic) {

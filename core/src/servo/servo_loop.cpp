@@ -368,14 +368,22 @@ void ServoLoop::watchdog(TickState& s) noexcept {
   }
 }
 
-// The grasp method on the fresh sample, with the time since its previous step.
+// The grasp method on the fresh sample, with the time since its previous step: in steps
+// of at most kMaxGraspStep_s when that time is longer (a late tick, samples that did not
+// come), the hand between the two samples; what any step raised is raised.
 void ServoLoop::graspStep(TickState& s) noexcept {
+  const grasp::HandSample from = lastHand_;
+  const double gap = haveHand_ ? pendingDt_ : 0.0;
   lastHand_ = sample_.hand;
-  const double stepDt = haveHand_ ? pendingDt_ : 0.0;
   haveHand_ = true;
   pendingDt_ = 0;
-  const EngineStep g = engine_->step(lastHand_, stepDt);
-  s.events |= g.events;
+  const int steps = std::clamp(static_cast<int>(std::ceil(gap / kMaxGraspStep_s)), 1, kMaxGraspSubsteps);
+  EngineStep g;
+  for (int k = 1; k <= steps; ++k) {
+    const double f = static_cast<double>(k) / steps;
+    g = engine_->step(k == steps ? lastHand_ : grasp::between(from, lastHand_, f), gap / steps);
+    s.events |= g.events;
+  }
   snap_.raw = g.command;
   snap_.graspedPart = g.graspedPart;
   snap_.contact = g.contact;

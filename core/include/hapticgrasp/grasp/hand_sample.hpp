@@ -32,4 +32,9 @@ struct HandSample {
   }
 };
 
+// The hand a fraction f (0..1) of the way from `a` to `b`: fingertips, wrist and time
+// straight, the wrist's orientation along the shortest turn (slerp). What the servo feeds a
+// grasp method between two samples that came too far apart (servo_loop.cpp: graspStep).
+HandSample between(const HandSample& a, const HandSample& b, double f) noexcept;
+
 }  // namespace hg::grasp

@@ -174,6 +174,15 @@ class SnapshotReader {
 
 class ServoLoop {
  public:
+  // A grasp method never steps further than this at once. A tick that comes late (the OS or
+  // the machine's host held the thread) is crossed in that many steps, the hand moving
+  // straight from its last sample to the new one, capped at kMaxGraspSubsteps steps (a
+  // longer gap takes longer ones): a held part then follows as if the loop had kept time.
+  // As one step, a 250 ms gap let the 2 kg cylinder slip 44 mm in a multi-finger pinch
+  // (tests/unit/test_servo_loop.cpp: ALateTickIsCrossedInShortSteps) and 400 ms dropped it.
+  static constexpr double kMaxGraspStep_s = 0.005;
+  static constexpr int kMaxGraspSubsteps = 64;
+
   // The first paper's two-finger method over `scene`. Throws std::invalid_argument for a
   // null device or scene, or a bad config.
   ServoLoop(std::shared_ptr<device::Device> device, grasp::ScenePtr scene,
