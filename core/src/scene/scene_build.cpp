@@ -27,18 +27,24 @@ std::vector<ScenePart> standIns(const std::vector<PartSource>& sources) {
 }
 
 // Background work yields to everything else on the machine (the servo, the GUI), and keeps
-// off the servo's CPU when it has one (if that leaves any other).
+// off the servo's CPU when it can (backgroundCpus).
 void stayInTheBackground(int avoidCpu) noexcept {
   sched_param param{};
   pthread_setschedparam(pthread_self(), SCHED_IDLE, &param);
   if (avoidCpu < 0) return;
   cpu_set_t set;
   if (pthread_getaffinity_np(pthread_self(), sizeof set, &set) != 0) return;
-  CPU_CLR(avoidCpu, &set);
-  if (CPU_COUNT(&set) > 0) pthread_setaffinity_np(pthread_self(), sizeof set, &set);
+  const cpu_set_t use = backgroundCpus(set, avoidCpu);
+  if (!CPU_EQUAL(&use, &set)) pthread_setaffinity_np(pthread_self(), sizeof use, &use);
 }
 
 }  // namespace
+
+cpu_set_t backgroundCpus(const cpu_set_t& allowed, int avoidCpu) noexcept {
+  cpu_set_t others = allowed;
+  if (avoidCpu >= 0 && avoidCpu < CPU_SETSIZE) CPU_CLR(avoidCpu, &others);
+  return CPU_COUNT(&others) >= 2 ? others : allowed;
+}
 
 SceneBuild::SceneBuild(std::vector<PartSource> parts, const Options& options)
     : sources_(std::move(parts)),

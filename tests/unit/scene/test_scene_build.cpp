@@ -13,6 +13,7 @@
 #include <condition_variable>
 #include <mutex>
 #include <chrono>
+#include <cstdio>
 #include <functional>
 #include <thread>
 
@@ -229,18 +230,38 @@ TEST(SceneBuild, CancelStopsAfterTheModelInProgress) {
   EXPECT_LT(build.progress().built, 5u);
 }
 
-// The workers keep off the servo thread's CPU (when the machine has another).
-TEST(SceneBuild, WorkersKeepOffTheServosCpu) {
+// The servo's CPU is left out only when two others remain.
+TEST(SceneBuild, BackgroundWorkKeepsOffTheServosCpuWhenTwoOthersRemain) {
+  const auto cpus = [](std::initializer_list<int> list) {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    for (int c : list) CPU_SET(c, &set);
+    return set;
+  };
+  const auto same = [](const cpu_set_t& a, const cpu_set_t& b) { return CPU_EQUAL(&a, &b) != 0; };
+  EXPECT_TRUE(same(backgroundCpus(cpus({0, 1, 2, 3}), 3), cpus({0, 1, 2})));
+  EXPECT_TRUE(same(backgroundCpus(cpus({0, 1, 2}), 1), cpus({0, 2})));
+  EXPECT_TRUE(same(backgroundCpus(cpus({0, 1}), 1), cpus({0, 1})));  // one other: both
+  EXPECT_TRUE(same(backgroundCpus(cpus({4}), 4), cpus({4})));
+  EXPECT_TRUE(same(backgroundCpus(cpus({0, 1, 2}), -1), cpus({0, 1, 2})));  // no servo CPU
+  EXPECT_TRUE(same(backgroundCpus(cpus({0, 1, 2}), 7), cpus({0, 1, 2})));   // not among them
+}
+
+// The workers run where backgroundCpus puts them on this machine.
+TEST(SceneBuild, WorkersRunWhereBackgroundCpusSays) {
   const int servo = servo::servoCpu();
   if (servo < 0) GTEST_SKIP() << "one CPU: nothing to keep off";
+  cpu_set_t allowed;
+  ASSERT_EQ(pthread_getaffinity_np(pthread_self(), sizeof allowed, &allowed), 0);
+  const cpu_set_t expected = backgroundCpus(allowed, servo);
   auto parts = row(3, 3);
-  std::atomic<int> onServoCpu{0}, checked{0};
+  std::atomic<int> asExpected{0}, checked{0};
   for (auto& p : parts) {
     auto load = p.load;
-    p.load = [load, servo, &onServoCpu, &checked] {
+    p.load = [load, expected, &asExpected, &checked] {
       cpu_set_t set;
       pthread_getaffinity_np(pthread_self(), sizeof set, &set);
-      onServoCpu += CPU_ISSET(servo, &set) ? 1 : 0;
+      asExpected += CPU_EQUAL(&set, &expected) ? 1 : 0;
       ++checked;
       return load();
     };
@@ -250,7 +271,8 @@ TEST(SceneBuild, WorkersKeepOffTheServosCpu) {
   SceneBuild build(std::move(parts), options);
   ASSERT_TRUE(build.wait(60));
   EXPECT_EQ(checked.load(), 3);
-  EXPECT_EQ(onServoCpu.load(), 0);
+  EXPECT_EQ(asExpected.load(), 3);
+  std::printf("%d CPUs allowed: the workers run on %d of them\n", CPU_COUNT(&allowed), CPU_COUNT(&expected));
 }
 
 // The real servo thread on a scene whose models are swapped in while it runs: no

@@ -11,9 +11,12 @@
 // With contact, each model's contact shell comes once every model whose shape has come is
 // built (the exact surfaces are felt first), published after its model.
 //
-// Workers run at SCHED_IDLE, off the servo thread's CPU when it is pinned (avoidCpu): they
-// take only what the servo thread and the GUI leave.
+// Workers run at SCHED_IDLE: they take only what the servo thread and the GUI leave. They
+// keep off the servo thread's CPU when it is pinned (avoidCpu) and two others remain
+// (backgroundCpus).
 // Never touched by the servo thread.
+#include <sched.h>
+
 #include <atomic>
 #include <condition_variable>
 #include <functional>
@@ -30,6 +33,14 @@
 #include "hapticgrasp/scene/scene.hpp"
 
 namespace hg::grasp {
+
+// The CPUs background work may use, of `allowed`: all but the servo thread's `avoidCpu` when
+// at least two others remain, else all of them. With one left it shares that one with the
+// GUI thread, which draws at 100% of a CPU under a software renderer, and at SCHED_IDLE gets
+// next to nothing there: five 1,030-face plates took 66 s, 87 s and twice over 300 s to
+// build in the GUI beside another FreeCAD on this 2-CPU machine. On the servo's CPU it
+// takes what the SCHED_FIFO servo leaves (about 94% at 2 kHz), and the servo preempts it.
+cpu_set_t backgroundCpus(const cpu_set_t& allowed, int avoidCpu) noexcept;
 
 // One part of a scene before its model exists.
 struct PartSource {
