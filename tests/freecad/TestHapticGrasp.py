@@ -247,13 +247,16 @@ class HapticGraspDocument(unittest.TestCase):
         fingertips = []
         states = run(s, s.core.script_duration() + 0.3, lambda snap: fingertips.append(len(snap["fingertips"])))
         s.stop()
+        timing = s.servo_timing()
         self.assertEqual(set(fingertips) - {0}, {2})   # 0 before the first tick
         self.assertIn("MANIPULATE", states)
         self.assertEqual(states[-1], "FREE", states)
         moved = self.cylinder.Placement.Base - before.Base
         sag = 2.0 * 9.80665 / 800.0 * 1000.0   # m g / k_d, mm
-        print("multi-finger: moved by (%.3f, %.3f, %.3f) mm, sag %.1f mm, states %s"
-              % (moved.x, moved.y, moved.z, sag, states))
+        # The servo's longest period says whether the thread was held (a late tick).
+        print("multi-finger: moved by (%.3f, %.3f, %.3f) mm, sag %.1f mm, states %s, servo %s at %.0f Hz, "
+              "longest period error %.1f ms" % (moved.x, moved.y, moved.z, sag, states, timing["scheduler"],
+                                               timing["achieved_hz"], timing["period_err_us"]["max"] / 1000.0))
         self.assertAlmostEqual(moved.x, 0.0, delta=1.0)
         self.assertAlmostEqual(moved.y, 100.0, delta=1.0)
         self.assertAlmostEqual(moved.z, -sag, delta=3.0)
