@@ -35,10 +35,10 @@
 namespace hg::grasp {
 
 // The CPUs background work may use, of `allowed`: all but the servo thread's `avoidCpu` when
-// at least two others remain, else all of them. With one left it shares that one with the
-// GUI thread, which draws at 100% of a CPU under a software renderer, and at SCHED_IDLE gets
-// next to nothing there: five 1,030-face plates took 66 s, 87 s and twice over 300 s to
-// build in the GUI beside another FreeCAD on this 2-CPU machine. On the servo's CPU it
+// at least two others remain, else all of them. With one left it shares that one with
+// FreeCAD's drawing (its GUI thread and the software renderer's threads) and whatever else
+// runs, and at SCHED_IDLE gets next to nothing there: five 1,030-face plates took 66 s, 87 s
+// and twice over 300 s to build in the GUI beside another FreeCAD on this 2-CPU machine. On the servo's CPU it
 // takes what the SCHED_FIFO servo leaves (about 94% at 2 kHz), and the servo preempts it.
 cpu_set_t backgroundCpus(const cpu_set_t& allowed, int avoidCpu) noexcept;
 
