@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <string>
 #include <thread>
 #include <vector>
@@ -778,6 +779,24 @@ TEST(ServoLoop, ALateTickIsCrossedInShortSteps) {
   EXPECT_EQ(late, kept);
   EXPECT_NEAR(onTime.position.y(), 0.1, 0.002);  // carried with the hand
   EXPECT_LT((held.position - onTime.position).norm(), 0.001);
+}
+
+// A replayed recording's dt is untrusted: NaN, infinite, huge or negative gaps step the
+// grasp once (the engines refuse what is not finite), and the loop goes on with finite output.
+TEST(ServoLoop, AnyGapIsSteppedWithoutBlowingUp) {
+  auto device = std::make_shared<ClockedScriptDevice>();
+  ServoLoop loop(device, benchScene(), {}, quietConfig());
+  ServoSnapshot s;
+  double t = 0;
+  for (const double gap : {0.0005, std::nan(""), 1e300, -1.0, std::numeric_limits<double>::infinity(), 0.0005, 0.3}) {
+    t += 0.0005;
+    device->now_s_ = t;
+    loop.step(t, gap);
+    ASSERT_TRUE(loop.read(s));
+    EXPECT_TRUE(device->last_.f_index.allFinite() && device->last_.f_thumb.allFinite() &&
+                device->last_.f_wrist.allFinite()) << gap;
+  }
+  EXPECT_EQ(s.tick, 7u);
 }
 
 TEST(ServoLoop, StepIsDeterministic) {

@@ -377,7 +377,10 @@ void ServoLoop::graspStep(TickState& s) noexcept {
   lastHand_ = sample_.hand;
   haveHand_ = true;
   pendingDt_ = 0;
-  const int steps = std::clamp(static_cast<int>(std::ceil(gap / kMaxGraspStep_s)), 1, kMaxGraspSubsteps);
+  // Clamped as a double: a replayed recording's dt may be anything (NaN, 1e300), and the
+  // engines refuse a non-finite one themselves.
+  const double wanted = std::ceil(gap / kMaxGraspStep_s);
+  const int steps = wanted > kMaxGraspSubsteps ? kMaxGraspSubsteps : wanted > 1 ? static_cast<int>(wanted) : 1;
   EngineStep g;
   for (int k = 1; k <= steps; ++k) {
     const double f = static_cast<double>(k) / steps;
