@@ -1956,7 +1956,10 @@ class SimulatedArmSession(unittest.TestCase):
 
     def test_a_target_that_goes_silent_mid_move_aborts_and_restores_the_block(self):
         before = App.Placement(self.block.Placement)
-        s, hand, box = self.arm_session(hold_s=0.05)   # silent 50 ms after the last target
+        # Silent 0.3 s after the last target: fed every 20 ms, a busy machine's longer pause
+        # in this thread must not be taken for the silence (at 50 ms it was, once beside the
+        # GUI test: the arm tripped before it ever grasped).
+        s, hand, box = self.arm_session(hold_s=0.3)
         s.set_hand(*hand.tick(0.0))
         s.start()
         states = self.approach_and_pinch(s, hand, box)
