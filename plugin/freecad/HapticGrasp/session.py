@@ -669,6 +669,8 @@ class HapticSession:
         self.core = core.Session()
         self.state = "FREE"
         self.active = None        # index of the part being manipulated (transaction open)
+        self._move_written = False      # the move has written a placement (its transaction exists)
+        self._undo_counts = (0, 0)      # the document's (UndoCount, RedoCount) after its last write
         self.original = None      # its object's own placement before the manipulation (PartRef.placement())
         self.frame = None         # its PartRef.frame(): the placements around it, fixed meanwhile
         self.moves = 0            # committed manipulations
@@ -1114,7 +1116,7 @@ class HapticSession:
             _error(self.messages, "%s was deleted while it was held: haptics stopped (Start again to go on "
                                   "without it; one undo brings it back where it was)" % ref.label)
             return True
-        if not self.doc.HasPendingTransaction:
+        if self._move_closed_under_it():
             self.active = self.original = self.frame = None
             placements = []
             for index, part in enumerate(self.parts):
@@ -1342,6 +1344,19 @@ class HapticSession:
             _warn(self.messages, "%s moved in the document: haptics restarted with the parts where the "
                   "document has them" % ", ".join(moved))
 
+    def _move_closed_under_it(self):
+        """Whether the move's transaction was closed or undone by someone else. FreeCAD makes
+        a transaction at its first property change, not at openTransaction(): until the
+        move has written a placement it has none (taking that for a closed one restarted
+        the loop mid-lift whenever the first GUI tick of a move found the part not yet
+        moved), and an undo or redo meanwhile shows in the undo and redo counts. A document
+        with undo off has neither, and nothing can undo the move."""
+        if not self.doc.UndoMode:
+            return False
+        if (self.doc.UndoCount, self.doc.RedoCount) != self._undo_counts:
+            return True
+        return self._move_written and not self.doc.HasPendingTransaction
+
     # --- internals --------------------------------------------------------------------
     def _begin(self, index):
         ref = self.parts[index]
@@ -1349,6 +1364,8 @@ class HapticSession:
         self.original = ref.placement()
         self.frame = ref.frame()
         self.doc.openTransaction("Haptic move %s" % ref.label)
+        self._move_written = False
+        self._undo_counts = (self.doc.UndoCount, self.doc.RedoCount)
 
     def _apply(self, snap):
         ref = self.parts[self.active]
@@ -1358,6 +1375,8 @@ class HapticSession:
         placement = before.inverse().multiply(to_placement(snap["placements"][self.active])).multiply(after.inverse())
         if not same_placement(placement, ref.placement()):
             ref.set_placement(placement)
+            self._move_written = True   # the transaction exists now, counted in UndoCount
+            self._undo_counts = (self.doc.UndoCount, self.doc.RedoCount)
 
     def _say_interference(self):
         """A part put down where it collides (contact off, or a part without its contact
