@@ -11,8 +11,8 @@
 // With contact, each model's contact shell comes once every model whose shape has come is
 // built (the exact surfaces are felt first), published after its model.
 //
-// Workers run at SCHED_BATCH, nice 19: they take what the servo thread and the GUI leave. They
-// keep off the servo thread's CPU when it is pinned (avoidCpu) and two others remain
+// Workers run at SCHED_BATCH, nice 19: they take what the servo thread and the GUI leave.
+// They keep off the servo thread's CPU when it is pinned (avoidCpu) and two others remain
 // (backgroundCpus).
 // Never touched by the servo thread.
 #include <sched.h>
@@ -37,9 +37,10 @@ namespace hg::grasp {
 // The CPUs background work may use, of `allowed`: all but the servo thread's `avoidCpu` when
 // at least two others remain, else all of them. With one left it shares that one with
 // FreeCAD's drawing (its GUI thread and the software renderer's threads) and whatever else
-// runs, and in the background gets next to nothing there (measured at SCHED_IDLE): five 1,030-face plates took 66 s, 87 s
-// and twice over 300 s to build in the GUI beside another FreeCAD on this 2-CPU machine. On the servo's CPU it
-// takes what the SCHED_FIFO servo leaves (about 94% at 2 kHz), and the servo preempts it.
+// runs, and in the background gets next to nothing there: at SCHED_IDLE five 1,030-face
+// plates took 66 s, 87 s and twice over 300 s to build in the GUI beside another FreeCAD on
+// this 2-CPU machine. On the servo's CPU it takes what the SCHED_FIFO servo leaves (about
+// 94% at 2 kHz), and the servo preempts it.
 cpu_set_t backgroundCpus(const cpu_set_t& allowed, int avoidCpu) noexcept;
 
 // One part of a scene before its model exists.
