@@ -23,6 +23,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -64,11 +66,21 @@ class Welder {
   };
   struct Hash {
     std::size_t operator()(const Key& k) const {
-      return std::hash<long long>()(k.x * 73856093LL ^ k.y * 19349663LL ^ k.z * 83492791LL);
+      // Unsigned: the products wrap, as a hash may (signed ones would overflow).
+      const auto u = [](long long v) { return static_cast<unsigned long long>(v); };
+      return std::hash<unsigned long long>()(u(k.x) * 73856093ULL ^ u(k.y) * 19349663ULL ^ u(k.z) * 83492791ULL);
     }
   };
+  // A damaged surface can put a node at NaN or far beyond any part (fuzzing found one): a
+  // cell number past 2^60 would overflow the key's arithmetic, so such a mesh is refused.
   Key key(const Vec3& p) const {
-    return {std::llround(p.x() / cell_), std::llround(p.y() / cell_), std::llround(p.z() / cell_)};
+    const Vec3 cells = p / cell_;
+    if (!(cells.cwiseAbs().maxCoeff() < 0x1p60)) {
+      char where[96];
+      std::snprintf(where, sizeof where, "(%.3g, %.3g, %.3g) m", p.x(), p.y(), p.z());
+      throw GeometryError(std::string("the mesh has a node at ") + where + ": its surfaces run away");
+    }
+    return {std::llround(cells.x()), std::llround(cells.y()), std::llround(cells.z())};
   }
   std::vector<Vec3>& vertices_;
   double cell_;
