@@ -767,7 +767,7 @@ TEST(ServoLoop, StepRunsEveryStageWithoutAThreadAndRefusesOnceStarted) {
 
 // The servo thread held 250 ms mid-carry (the OS, the machine's host): the loop crosses the
 // gap in short steps with the hand moving between its two samples, so the part stays in the
-// pinch and ends where it ends without the gap. As one 250 ms step it slipped 45 mm.
+// pinch and ends where it ends without the gap. As one 250 ms step it slipped 44 mm.
 TEST(ServoLoop, ALateTickIsCrossedInShortSteps) {
   std::string kept, late;
   const grasp::PartPose onTime = carriedThroughAGap(99.0, 0.0, kept);
