@@ -426,7 +426,8 @@ PartModel::Record PartModel::record() const {
   return {metresPerUnit_, bounds_, volume_m3_, centre_m_, unitDensityInertia_, warnings_, backendChoice_};
 }
 
-PartModelPtr PartModel::restore(const TopoDS_Shape& shape, const Record& r, std::string name) {
+PartModelPtr PartModel::restore(const TopoDS_Shape& shape, const Record& r, std::string name,
+                                 const PartLoadTiming* timing) {
   const Clock::time_point start = Clock::now();
   if (shape.IsNull()) throw GeometryError("empty shape");
   std::shared_ptr<PartModel> part(new PartModel);
@@ -444,7 +445,8 @@ PartModelPtr PartModel::restore(const TopoDS_Shape& shape, const Record& r, std:
   part->unitDensityInertia_ = r.unitDensityInertia;
   part->warnings_ = r.warnings;
   part->backendChoice_ = r.choice;
-  part->timing_.total_s = secondsSince(start);
+  if (timing) part->timing_ = *timing;
+  part->timing_.total_s += secondsSince(start);
   return part;
 }
 

@@ -8,21 +8,15 @@
 #include <random>
 #include <sstream>
 
-#include "hapticgrasp/geometry/backends.hpp"
+#include "geometry/part_answers.hpp"
 
 namespace hg::geometry {
 namespace {
 
-std::string text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-std::string sample(const std::string& name) { return text(std::string(HG_RESOURCES_DIR) + "/parts/" + name + ".brep"); }
-std::string corpus(const std::string& name) {
-  return text(std::string(HG_TEST_DATA_DIR) + "/../corpus/parts/" + name + ".brep");
-}
+using test::corpus;
+using test::expectSameAnswers;
+using test::sample;
+using test::text;
 
 class ModelCacheTest : public ::testing::Test {
  protected:
@@ -35,32 +29,6 @@ class ModelCacheTest : public ::testing::Test {
   void TearDown() override { std::filesystem::remove_all(dir); }
   std::filesystem::path dir;
 };
-
-// The restored part answers every query as the one loaded from its text.
-void expectSameAnswers(const PartModelPtr& a, const PartModelPtr& b) {
-  EXPECT_EQ(a->faces().Extent(), b->faces().Extent());
-  EXPECT_EQ(a->edges().Extent(), b->edges().Extent());
-  EXPECT_LT((a->bounds().min - b->bounds().min).norm(), 1e-15);
-  EXPECT_LT((a->bounds().max - b->bounds().max).norm(), 1e-15);
-  EXPECT_DOUBLE_EQ(a->massProperties(MassSpec::density(1000)).mass_kg, b->massProperties(MassSpec::density(1000)).mass_kg);
-  EXPECT_EQ(a->backendChoice().backend, b->backendChoice().backend);
-  EXPECT_EQ(a->backendChoice().reason, b->backendChoice().reason);
-  EXPECT_EQ(a->backendChoice().surfaceMayCross, b->backendChoice().surfaceMayCross);
-  EXPECT_EQ(a->warnings(), b->warnings());
-  EXPECT_EQ(a->primitive().kind, b->primitive().kind);
-  const auto pa = makePenetration(a), pb = makePenetration(b);
-  EXPECT_EQ(pa->name(), pb->name());
-  std::mt19937 rng(1);
-  const Aabb box = a->bounds().inflated(0.005);
-  std::uniform_real_distribution<double> u(0, 1);
-  for (int i = 0; i < 500; ++i) {
-    const Vec3 x = box.min + box.size().cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
-    QueryState sa, sb;
-    const Penetration qa = pa->query(x, sa), qb = pb->query(x, sb);
-    ASSERT_EQ(qa.inside, qb.inside) << x.transpose();
-    ASSERT_EQ(qa.depth, qb.depth) << x.transpose();
-  }
-}
 
 TEST_F(ModelCacheTest, GivesBackThePartFromMemoryThenFromDisk) {
   ModelCache cache({dir});

@@ -12,10 +12,10 @@
 // unreadable entry is deleted, the part built again and the entry rewritten: never
 // trusted. The disk holds at most maxBytes: the least recently used entries go first.
 //
-// Hand-written: no Debian library caches OCCT shapes; the format is a magic, sizes, a
-// checksum, a JSON record (nlohmann-json) and BinTools' shape stream.
+// Hand-written: no Debian library caches OCCT shapes; an entry's format: model_entry.hpp.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <list>
 #include <mutex>
 #include <string>
@@ -48,11 +48,16 @@ class ModelCache {
   static ModelCache& shared();
   static std::filesystem::path defaultDir();
 
+  // How a part the cache does not hold is loaded: PartModel::fromBrepText in this process
+  // when empty; in FreeCAD, the loader process (loader_process.hpp).
+  using Build = std::function<PartModelPtr(std::string_view brep, LengthUnit unit, const std::string& name,
+                                           const PartModel::LoadOptions& options)>;
+
   // The part BREP text `brep` describes (in `unit`), checked: from memory, the disk, or
-  // loaded (PartModel::fromBrepText) and stored. Throws what the load throws; a part that
-  // cannot be loaded is not cached.
+  // loaded (by `build`) and stored. Throws what the load throws; a part that cannot be
+  // loaded is not cached.
   PartModelPtr load(std::string_view brep, LengthUnit unit, const std::string& name,
-                    const PartModel::LoadOptions& options = {}, Outcome* outcome = nullptr);
+                    const PartModel::LoadOptions& options = {}, Outcome* outcome = nullptr, const Build& build = {});
 
   std::string keyOf(std::string_view brep, LengthUnit unit, const PartModel::LoadOptions& options) const;
   std::filesystem::path entryPath(const std::string& key) const;

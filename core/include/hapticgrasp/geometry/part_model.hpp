@@ -105,7 +105,10 @@ class PartModel {
   Record record() const;
   // A part from a shape this class checked before (its shape()) and that check's record.
   // Trusts both: the caller must have verified them (the cache checksums its entries).
-  static PartModelPtr restore(const TopoDS_Shape& checkedShape, const Record& record, std::string name);
+  // `timing`: the check's own (a load in the loader process), added to the restore's time;
+  // none: the part reports the restore's time alone.
+  static PartModelPtr restore(const TopoDS_Shape& checkedShape, const Record& record, std::string name,
+                              const PartLoadTiming* timing = nullptr);
 
  private:
   PartModel() = default;
