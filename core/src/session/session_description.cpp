@@ -1,6 +1,5 @@
 #include "hapticgrasp/session/session_description.hpp"
 
-#include <BRepTools.hxx>
 #include <BinTools.hxx>
 #include <Standard_Failure.hxx>
 #include <TopoDS_Shape.hxx>
@@ -13,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "hapticgrasp/geometry/display_shape.hpp"
 #include "hapticgrasp/geometry/part_model.hpp"
 
 namespace hg::session {
@@ -361,23 +361,11 @@ RecordedPart describePart(const grasp::ScenePart& s, std::string name) {
 }
 
 std::string brepAsText(const RecordedPart& part) {
-  const std::string whose = "part '" + part.name + "': its recorded shape";
-  TopoDS_Shape shape;
   try {
-    std::istringstream in(part.brep, std::ios::binary);
-    BinTools::Read(shape, in);
-  } catch (const Standard_Failure& e) {
-    throw SessionError(whose + " is not a binary BREP (" + e.GetMessageString() + ")");
-  }
-  if (shape.IsNull()) throw SessionError(whose + " is not a binary BREP");
-  try {
-    geometry::PartModel::fromShape(shape, part.unit, part.name);
+    return geometry::displayableBrepText(part.brep, part.unit, part.name);
   } catch (const geometry::GeometryError& e) {
-    throw SessionError(whose + " is refused: " + e.what());
+    throw SessionError("part '" + part.name + "': its recorded shape " + e.what());
   }
-  std::ostringstream out;
-  BRepTools::Write(shape, out, /*theWithTriangles=*/false, /*theWithNormals=*/false, TopTools_FormatVersion_CURRENT);
-  return std::move(out).str();
 }
 
 std::string partToJson(const RecordedPart& part) { return partJson(part).dump(); }
