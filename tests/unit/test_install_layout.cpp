@@ -33,5 +33,14 @@ TEST(InstallLayout, TheEnvironmentOverridesEverything) {
   EXPECT_NE(resourcesDir(), fs::path("/somewhere/else"));
 }
 
+TEST(InstallLayout, TheLoaderProgramIsTheBuildTreesUnlessTheEnvironmentNamesOne) {
+  unsetenv("HAPTICGRASP_LOADER");
+  EXPECT_EQ(loaderProgram().filename(), "hapticgrasp-loader");
+  EXPECT_EQ(loaderProgram().parent_path().filename(), "loader") << "the build tree's plugin/loader";
+  setenv("HAPTICGRASP_LOADER", "/opt/loader", 1);
+  EXPECT_EQ(loaderProgram(), fs::path("/opt/loader"));
+  unsetenv("HAPTICGRASP_LOADER");
+}
+
 }  // namespace
 }  // namespace hg

@@ -21,4 +21,11 @@ std::optional<std::filesystem::path> installPrefix();
 // <installPrefix>/share/hapticgrasp; else /usr/share/hapticgrasp.
 std::filesystem::path resourcesDir();
 
+// The workbench's loader process (geometry/loader_process.hpp): $HAPTICGRASP_LOADER if set;
+// the build tree's plugin/loader/hapticgrasp-loader for a build-tree binary; else
+// <installPrefix>/lib/hapticgrasp/hapticgrasp-loader (Debian keeps a package's private
+// programs under /usr/lib/<package>); else /usr/lib/hapticgrasp/hapticgrasp-loader. Whether
+// it exists is the caller's to check.
+std::filesystem::path loaderProgram();
+
 }  // namespace hg

@@ -77,4 +77,14 @@ fs::path resourcesDir() {
   return "/usr/share/hapticgrasp";
 }
 
+fs::path loaderProgram() {
+  if (const char* env = std::getenv("HAPTICGRASP_LOADER"); env && *env) return env;
+#ifdef HG_LOADER_BUILD_PATH
+  if (inBuildTree(runningImage())) return HG_LOADER_BUILD_PATH;
+#endif
+  const fs::path relative = fs::path("lib") / "hapticgrasp" / "hapticgrasp-loader";
+  if (const auto prefix = installPrefix()) return *prefix / relative;
+  return fs::path("/usr") / relative;
+}
+
 }  // namespace hg
