@@ -1457,6 +1457,74 @@ class ModelCacheInTheWorkbench(unittest.TestCase):
         self.assertEqual(self.start_and_finish().model_sources, {0: "disk"})   # rewritten whole
 
 
+class LoaderProcess(unittest.TestCase):
+    """Parts load in the loader process, not in FreeCAD: a shape that crashes OpenCASCADE
+    there costs its part (kept on its stand-in box, or skipped, with the reason), never
+    FreeCAD; the next load gets a new helper."""
+
+    CRASH = ["/bin/sh", "-c", "head -c 10 >/dev/null; kill -SEGV $$"]   # a helper that dies mid-load
+
+    def setUp(self):
+        self.doc = App.newDocument("HapticGraspLoader")
+        box = self.doc.addObject("Part::Feature", "OddBox")   # a shape no cache holds
+        box.Shape = Part.makeBox(10 + (time.time() % 1.0), 20, 31)
+        self.doc.recompute()
+
+    def tearDown(self):
+        core.use_loader()
+        App.closeDocument(self.doc.Name)
+
+    def scene_until_built(self):
+        s = hs.HapticSession(self.doc, scene=True)
+        keys, frame = hs.demo_script(s.parts[0], lift=False)
+        s.use_hand_script(keys, frame)
+        s.start()
+        deadline = time.monotonic() + 60
+        while not s.core.scene_status()["finished"] and time.monotonic() < deadline:
+            s.tick()
+            time.sleep(TICK_S)
+        s.tick()
+        return s
+
+    def test_parts_load_in_the_loader_process(self):
+        status = core.loader()
+        self.assertTrue(status["isolated"], status)
+        self.assertTrue(status["program"].endswith("hapticgrasp-loader"), status)
+        started = status["started"]
+        s = self.scene_until_built()
+        s.stop()
+        self.assertEqual(s.core.scene_status()["exact_parts"], 1)
+        self.assertEqual(s.model_sources, {0: "built"})
+        self.assertGreaterEqual(core.loader()["started"], max(started, 1))
+
+    def test_a_crash_in_the_loader_costs_the_scene_its_part_only(self):
+        core.clear_model_cache_memory()
+        core.use_loader(self.CRASH, 20)
+        s = self.scene_until_built()
+        try:
+            status = s.core.scene_status()
+            self.assertEqual((status["failed"], status["exact_parts"]), (1, 0), status)
+            reason = s.core.snapshot()["backends"][0][1]
+            print("a crash in the loader: %s" % reason)
+            self.assertIn("loading OddBox in the loader process crashed (SIGSEGV", reason)
+            self.assertTrue(any("crashed (SIGSEGV" in line for line in s.part_reports), s.part_reports)
+            self.assertTrue(s.core.running)   # haptics go on, on the box
+        finally:
+            s.stop()
+        core.use_loader()
+        s = self.scene_until_built()
+        s.stop()
+        self.assertEqual(s.core.scene_status()["exact_parts"], 1)   # a new helper loads it
+
+    def test_a_crash_in_the_loader_skips_the_part_by_name(self):
+        core.use_loader(self.CRASH, 20)
+        s = hs.HapticSession(self.doc)
+        self.assertEqual(s.parts, [])
+        self.assertEqual(len(s.messages), 1, s.messages)
+        self.assertTrue(s.messages[0].startswith("skipping OddBox: loading OddBox in the loader process crashed (SIGSEGV"),
+                        s.messages[0])
+
+
 class Recording(unittest.TestCase):
     """Start records the session (the preference "Record sessions", on by default) beside
     the saved document; a reviewer's note goes in with the part under the hand; recording

@@ -102,7 +102,7 @@ def check_contents(deb):
     paths = {line.split()[-1].lstrip(".") for line in listing}
     modes = {line.split()[-1].lstrip("."): line.split()[0] for line in listing}
     mod = "/usr/share/freecad/Mod/HapticGrasp/"
-    for path in ("/usr/bin/hapticgrasp", mod + "package.xml", mod + "freecad/hapticgrasp/init_gui.py",
+    for path in ("/usr/bin/hapticgrasp", "/usr/lib/hapticgrasp/hapticgrasp-loader", mod + "package.xml", mod + "freecad/hapticgrasp/init_gui.py",
                  mod + "freecad/hapticgrasp/report.py", mod + "freecad/hapticgrasp/resources/icons/HapticGraspWorkbench.svg",
                  "/usr/share/hapticgrasp/parts/parts.json", "/usr/share/hapticgrasp/arms/master_arm.urdf",
                  "/usr/lib/udev/rules.d/70-hapticgrasp.rules", "/etc/security/limits.d/95-hapticgrasp.conf",
@@ -181,13 +181,17 @@ def check_workbench(root):
     probe = os.path.join(home, "probe.py")
     with open(probe, "w") as f:
         f.write("import os\nfrom freecad.hapticgrasp import _hapticgrasp, session\n"
-                "print('MODULE', _hapticgrasp.__file__)\nprint('PACKAGE', session.__file__)\nos._exit(0)\n")
+                "print('MODULE', _hapticgrasp.__file__)\nprint('PACKAGE', session.__file__)\n"
+                "loader = _hapticgrasp.loader()\n"
+                "print('LOADER', loader['program'] if loader['isolated'] else 'none: ' + loader['why'])\nos._exit(0)\n")
     r = run(["timeout", "120", "freecadcmd", probe], env=env, hide=True)
-    lines = dict(line.split(" ", 1) for line in r.stdout.splitlines() if line.startswith(("MODULE ", "PACKAGE ")))
+    lines = dict(line.split(" ", 1) for line in r.stdout.splitlines() if line.startswith(("MODULE ", "PACKAGE ", "LOADER ")))
     check(lines.get("MODULE", "").startswith(os.path.join(root, "usr/lib/python3/dist-packages/freecad/hapticgrasp/")),
           "FreeCAD imports the compiled module from the package's dist-packages: %s" % lines.get("MODULE"))
     check(os.path.realpath(lines.get("PACKAGE", "")).startswith(os.path.join(root, "usr/share/freecad/Mod/HapticGrasp/")),
           "and the workbench's Python from its Mod folder: %s" % lines.get("PACKAGE"))
+    check(lines.get("LOADER", "") == os.path.join(root, "usr/lib/hapticgrasp/hapticgrasp-loader"),
+          "and loads parts in the package's loader process: %s" % lines.get("LOADER"))
     tests = "freecad.hapticgrasp.TestHapticGrasp.HapticGraspDocument"
     r = run(["timeout", "300", "freecadcmd", "-t", tests], env=env, hide=True, timeout=320)
     summary = [line for line in (r.stdout + r.stderr).splitlines() if line.startswith(("Ran ", "OK", "FAILED"))]

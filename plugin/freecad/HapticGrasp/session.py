@@ -179,6 +179,9 @@ def store_parameters(values):
         group.SetFloat(key, float(value))
 
 
+_said_no_loader = False   # the report view hears it once per FreeCAD session
+
+
 def _warn(messages, text):
     messages.append(text)
     App.Console.PrintWarning("HapticGrasp: " + text + "\n")
@@ -994,12 +997,22 @@ class HapticSession:
         else:
             self.core.start(rate_hz, realtime)
         self._say_servo()
+        self._say_loader()
         self._say_recording()
 
     def servo_timing(self):
         """The core's servo_timing(): target_hz, achieved_hz, period_err_us {p50, p99, max},
         scheduler, memory_lock, realtime, advice."""
         return self.core.servo_timing()
+
+    def _say_loader(self):
+        """Once per FreeCAD session: parts load inside FreeCAD, not in the loader process."""
+        global _said_no_loader
+        status = core.loader()
+        if not status["isolated"] and not _said_no_loader:
+            _said_no_loader = True
+            _warn(self.messages, "parts load inside FreeCAD (%s): a part that crashes OpenCASCADE "
+                  "would take FreeCAD with it" % status["why"])
 
     def _say_servo(self):
         timing = self.core.servo_timing()

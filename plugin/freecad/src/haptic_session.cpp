@@ -13,13 +13,14 @@
 #include "hapticgrasp/geometry/model_cache.hpp"
 #include "hapticgrasp/grasp/grasp_state.hpp"
 #include "hapticgrasp/scene/scene.hpp"
+#include "part_loader.hpp"
 
 namespace hg::freecad {
 
 geometry::PartModelPtr loadPart(const std::string& brep, const std::string& name) {
   geometry::PartModel::LoadOptions options;
   options.parallel = false;  // beside a GUI and possibly a running servo thread
-  return geometry::PartModel::fromBrepText(brep, kDocumentUnit, name, options);
+  return loadPartText(brep, name, options);
 }
 
 PartInfo describe(const geometry::PartModel& part, const geometry::MassSpec& mass,
@@ -622,7 +623,7 @@ void Session::provideShape(std::size_t model, std::string brep) {
     geometry::PartModel::LoadOptions options;
     options.parallel = false;  // beside a GUI and the servo thread
     geometry::ModelCache::Outcome outcome;
-    auto part = geometry::ModelCache::shared().load(*text, kDocumentUnit, name, options, &outcome);
+    auto part = geometry::ModelCache::shared().load(*text, kDocumentUnit, name, options, &outcome, cacheBuild());
     std::lock_guard lock(sources->mutex);
     sources->byModel[model] = std::string(geometry::toString(outcome.source)) +
                               (outcome.note.empty() ? "" : " (" + outcome.note + ")");

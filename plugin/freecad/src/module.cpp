@@ -13,6 +13,7 @@
 #include "hapticgrasp/geometry/geometry_error.hpp"
 #include "hapticgrasp/geometry/model_cache.hpp"
 #include "hid_input.hpp"
+#include "part_loader.hpp"
 #include "hapticgrasp/session/recording.hpp"
 #include "hapticgrasp/session/review_track.hpp"
 #include "hapticgrasp/session/session_series.hpp"
@@ -545,6 +546,32 @@ PYBIND11_MODULE(_hapticgrasp, m) {
   m.def("clear_model_cache_memory", [] { geometry::ModelCache::shared().clearMemory(); },
         "Forgets the models kept in memory (the disk cache stays): as a new FreeCAD session would start.");
 
+  // The loader process (src/part_loader.hpp): parts load outside FreeCAD.
+  m.def(
+      "loader",
+      [] {
+        const freecad::LoaderStatus s = freecad::loaderStatus();
+        py::dict d;
+        d["isolated"] = s.isolated;
+        d["program"] = s.program;
+        d["started"] = s.started;
+        d["time_limit_s"] = s.timeLimit_s;
+        d["why"] = s.why;
+        return d;
+      },
+      "Where parts load: isolated (in the loader process, a crash or loop there costs FreeCAD nothing), "
+      "program, started (helper processes so far), time_limit_s (per part), why (when not isolated).");
+  m.def(
+      "use_loader",
+      [](const std::vector<std::string>& command, double time_limit_s) {
+        freecad::useLoader(command, time_limit_s);
+      },
+      py::arg("command") = std::vector<std::string>{}, py::arg("time_limit_s") = 60.0,
+      "Parts load in this program (with its arguments) from now on, each given up after time_limit_s; "
+      "[] (the default): the installed loader. Tests hand a stand-in that crashes or hangs.");
+  m.def("use_no_loader", &freecad::useNoLoader, py::arg("why") = "turned off",
+        "Parts load in FreeCAD's own process from now on (a crash in OpenCASCADE then takes FreeCAD with it).");
+
   // Recordings (session/): what report.py and the Review panel read. The GIL is released:
   // a long recording reads on FreeCAD's side while the GUI keeps its events.
   m.def(
@@ -653,14 +680,15 @@ PYBIND11_MODULE(_hapticgrasp, m) {
             std::string text;
             {
               py::gil_scoped_release release;  // the part's checks: as long as loading it
-              text = session::brepAsText(p);
+              text = freecad::recordedShapeText(p);
             }
             return py::bytes(text);
           },
           py::arg("i"),
           "Part i's last recorded shape as OCCT text BREP (own frame, in its unit; what FreeCAD's "
-          "importBrepFromString reads), or None; RuntimeError when the recorded bytes are not a shape or the "
-          "checks of a part's load refuse it (a recording may come from anyone).")
+          "importBrepFromString reads), or None; RuntimeError when the recorded bytes are not a shape, the "
+          "checks of a part's load refuse it or its display mesh does not finish (checked in the loader "
+          "process: a recording may come from anyone).")
       .def_property_readonly("events",
                              [](const ReviewTrack& r) {
                                py::list out;
