@@ -71,8 +71,9 @@ int benchScene(servo::SceneBenchOptions options, bool json) {
     std::cout << servo::toJson(r) << std::endl;
     return 0;
   }
-  std::printf("scene: %zu parts, %zu distinct models (%zu failed); file read in %.3f s\n", r.parts, r.uniqueModels,
-              r.failedModels, r.read_s);
+  std::printf("scene: %zu parts, %zu distinct models (%zu failed), loaded as %s%s; file read in %.3f s\n", r.parts,
+              r.uniqueModels, r.failedModels, r.load.c_str(),
+              r.load == "loader" ? (" (" + std::to_string(r.loaderProcesses) + " processes)").c_str() : "", r.read_s);
   std::printf("  servo running %.3f s after Start; %s exact and touched at %.3f s; every model built at %.3f s\n",
               r.start_s, r.target.c_str(), r.first_touch_s, r.all_built_s);
   std::printf("  compute us  p50 %.2f  p99 %.2f  max %.2f; period error p99 %.2f us; %.1f Hz; %s\n", r.compute.p50_us,

@@ -247,6 +247,11 @@ int main(int argc, char** argv) {
       CLI::Range(1, 64));
   sceneBench->add_flag("!--no-sharing", sceneOptions.share,
                        "Build every copy's models apart, as if no two parts were the same shape");
+  sceneBench->add_option("--load", sceneOptions.load,
+                         "How each model loads: shape (as read, here), text (its BREP text, here: the workbench without "
+                         "its loader), loader (its BREP text in the loader process: the workbench's way)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"shape", "text", "loader"}));
   sceneBench->add_flag("!--no-pin", sceneOptions.pin,
                        "Leave the servo thread and the model builders to the scheduler (no CPU of its own)");
   sceneBench->add_flag("--json", json, "Print JSON");

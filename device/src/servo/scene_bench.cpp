@@ -1,6 +1,7 @@
 #include "hapticgrasp/servo/scene_bench.hpp"
 
 #include <BRepBndLib.hxx>
+#include <BRepTools.hxx>
 #include <Bnd_Box.hxx>
 #include <IntCurvesFace_ShapeIntersector.hxx>
 #include <TopExp_Explorer.hxx>
@@ -10,16 +11,20 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <memory>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <stdexcept>
 #include <thread>
 #include <string>
 
 #include "hapticgrasp/geometry/geometry_error.hpp"
+#include "hapticgrasp/geometry/loader_process.hpp"
 #include "hapticgrasp/geometry/part_model.hpp"
 #include "hapticgrasp/geometry/sample_parts.hpp"
 #include "hapticgrasp/geometry/units.hpp"
 #include "hapticgrasp/grasp/hand_script.hpp"
+#include "hapticgrasp/install_layout.hpp"
 #include "hapticgrasp/scene/scene_build.hpp"
 #include "hapticgrasp/servo/grasp_engine.hpp"
 #include "hapticgrasp/servo/scripted_hand_device.hpp"
@@ -118,10 +123,24 @@ grasp::HandScript touchScript(const Vec3& top) {
   return grasp::HandScript(std::move(keys));
 }
 
+// A model's load, the way `how` asks (SceneBenchOptions::load); on a worker.
+geometry::PartModelPtr loadSolid(const TopoDS_Shape& solid, geometry::LengthUnit unit, const std::string& name,
+                                 const std::string& how, geometry::LoaderProcess* loader) {
+  geometry::PartModel::LoadOptions options;
+  options.parallel = false;  // the worker keeps to its one thread
+  if (how == "shape") return geometry::PartModel::fromShape(solid, unit, name, options);
+  std::ostringstream text;  // as FreeCAD's exportBrepToString writes it
+  BRepTools::Write(solid, text);
+  if (loader) return loader->load(text.str(), unit, name, options);
+  return geometry::PartModel::fromBrepText(text.str(), unit, name, options);
+}
+
 }  // namespace
 
 SceneBenchResult runSceneBench(const SceneBenchOptions& o) {
   if (o.copies < 1 || o.copies > 100000) throw std::invalid_argument("--copies must be in [1, 100000]");
+  if (o.load != "shape" && o.load != "text" && o.load != "loader")
+    throw std::invalid_argument("--load must be shape, text or loader");
   if (!(o.seconds > 0 && o.seconds <= 3600)) throw std::invalid_argument("--seconds must be in (0, 3600]");
   SceneBenchResult r;
   const long rss0 = residentBytes();
@@ -142,6 +161,9 @@ SceneBenchResult runSceneBench(const SceneBenchOptions& o) {
     assembly.extend(w.max);
   }
   const double pitch = 1.2 * assembly.size().x() + 0.01;
+  std::shared_ptr<geometry::LoaderProcess> loader;
+  if (o.load == "loader")
+    loader = std::make_shared<geometry::LoaderProcess>(geometry::LoaderProcess::Options{{loaderProgram().string()}});
   std::vector<grasp::PartSource> sources;
   sources.reserve(solids.size() * static_cast<std::size_t>(o.copies));
   std::size_t target = 0;
@@ -158,11 +180,7 @@ SceneBenchResult runSceneBench(const SceneBenchOptions& o) {
       p.mass = geometry::MassSpec::density(7850);
       const TopoDS_Shape solid = solids[i].shape;
       const std::string name = p.name;
-      p.load = [solid, unit, name] {
-        geometry::PartModel::LoadOptions options;
-        options.parallel = false;  // the worker keeps to its one thread
-        return geometry::PartModel::fromShape(solid, unit, name, options);
-      };
+      p.load = [solid, unit, name, how = o.load, loader] { return loadSolid(solid, unit, name, how, loader.get()); };
       sources.push_back(std::move(p));
     }
   }
@@ -210,6 +228,8 @@ SceneBenchResult runSceneBench(const SceneBenchOptions& o) {
   r.uniqueModels = p.models;
   r.failedModels = p.failed;
   r.memory_bytes = residentBytes() - rss0;
+  r.load = o.load;
+  r.loaderProcesses = loader ? loader->started() : 0;
   return r;
 }
 
@@ -230,7 +250,9 @@ std::string toJson(const SceneBenchResult& r, int indent) {
                    {"achieved_hz", r.achieved_hz},
                    {"allocations_in_loop", r.allocations_in_loop},
                    {"scheduler", r.scheduler},
-                   {"target", r.target}};
+                   {"target", r.target},
+                   {"load", r.load},
+                   {"loader_processes", r.loaderProcesses}};
   return j.dump(indent);
 }
 

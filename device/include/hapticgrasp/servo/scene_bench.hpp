@@ -27,6 +27,10 @@ struct SceneBenchOptions {
   bool share = true;       // copies share their shapes' models (false: every copy built apart)
   bool pin = true;         // a real-time servo keeps a CPU to itself, the builders the others
   bool realtime = true;
+  // How each model is loaded: "shape" (the solid as read, in this process), "text" (its BREP
+  // text, in this process: the workbench without its loader), "loader" (its BREP text in the
+  // loader process: the workbench's way, geometry/loader_process.hpp).
+  std::string load = "shape";
   AllocationCounter allocationCounter = nullptr;
 };
 
@@ -39,13 +43,15 @@ struct SceneBenchResult {
   long allocations_in_loop = -1;
   std::string scheduler;
   std::string target;        // the part touched
+  std::string load;          // as asked (SceneBenchOptions::load)
+  std::size_t loaderProcesses = 0;  // "loader": helper processes started
 };
 
 // Throws GeometryError for an unreadable file, std::invalid_argument for bad options.
 SceneBenchResult runSceneBench(const SceneBenchOptions& options);
 // {"parts", "unique_models", "failed_models", "read_s", "start_s", "first_touch_s",
 //  "all_built_s", "memory_bytes", "compute_us": {"p50","p99","max"}, "period_err_us": {...},
-//  "achieved_hz", "allocations_in_loop", "scheduler", "target"}
+//  "achieved_hz", "allocations_in_loop", "scheduler", "target", "load", "loader_processes"}
 std::string toJson(const SceneBenchResult& result, int indent = 2);
 
 }  // namespace hg::servo
