@@ -1404,30 +1404,43 @@ class SceneEdits(unittest.TestCase):
         s.stop()
 
 
+def odd_box_document(name, height):
+    """A document of one box no other test makes (its size from the clock), so that no
+    cache holds its model: built the first time a test starts it."""
+    doc = App.newDocument(name)
+    box = doc.addObject("Part::Feature", "OddBox")
+    box.Shape = Part.makeBox(10 + (time.time() % 1.0), 20, height)
+    doc.recompute()
+    return doc
+
+
+def scene_until_built(doc):
+    """A scene session on `doc` started with the demo hand and ticked until every model is
+    built or failed (60 s at most); still running."""
+    s = hs.HapticSession(doc, scene=True)
+    keys, frame = hs.demo_script(s.parts[0], lift=False)
+    s.use_hand_script(keys, frame)
+    s.start()
+    deadline = time.monotonic() + 60
+    while not s.core.scene_status()["finished"] and time.monotonic() < deadline:
+        s.tick()
+        time.sleep(TICK_S)
+    s.tick()
+    return s
+
+
 class ModelCacheInTheWorkbench(unittest.TestCase):
     """Nothing built twice: a second Start takes the models from memory, a new FreeCAD
     session from the disk cache, and a damaged entry is built again and said so."""
 
     def setUp(self):
-        self.doc = App.newDocument("HapticGraspCache")
-        # A shape no other test makes (its size from the clock): built the first time here.
-        box = self.doc.addObject("Part::Feature", "OddBox")
-        box.Shape = Part.makeBox(10 + (time.time() % 1.0), 20, 30)
-        self.doc.recompute()
+        self.doc = odd_box_document("HapticGraspCache", 30)
 
     def tearDown(self):
         App.closeDocument(self.doc.Name)
 
     def start_and_finish(self):
-        s = hs.HapticSession(self.doc, scene=True)
-        keys, frame = hs.demo_script(s.parts[0], lift=False)
-        s.use_hand_script(keys, frame)
-        s.start()
-        deadline = time.monotonic() + 60
-        while not s.core.scene_status()["finished"] and time.monotonic() < deadline:
-            s.tick()
-            time.sleep(TICK_S)
-        s.tick()
+        s = scene_until_built(self.doc)
         s.stop()
         self.assertEqual(s.core.scene_status()["exact_parts"], 1)
         return s
@@ -1465,33 +1478,18 @@ class LoaderProcess(unittest.TestCase):
     CRASH = ["/bin/sh", "-c", "head -c 10 >/dev/null; kill -SEGV $$"]   # a helper that dies mid-load
 
     def setUp(self):
-        self.doc = App.newDocument("HapticGraspLoader")
-        box = self.doc.addObject("Part::Feature", "OddBox")   # a shape no cache holds
-        box.Shape = Part.makeBox(10 + (time.time() % 1.0), 20, 31)
-        self.doc.recompute()
+        self.doc = odd_box_document("HapticGraspLoader", 31)
 
     def tearDown(self):
         core.use_loader()
         App.closeDocument(self.doc.Name)
-
-    def scene_until_built(self):
-        s = hs.HapticSession(self.doc, scene=True)
-        keys, frame = hs.demo_script(s.parts[0], lift=False)
-        s.use_hand_script(keys, frame)
-        s.start()
-        deadline = time.monotonic() + 60
-        while not s.core.scene_status()["finished"] and time.monotonic() < deadline:
-            s.tick()
-            time.sleep(TICK_S)
-        s.tick()
-        return s
 
     def test_parts_load_in_the_loader_process(self):
         status = core.loader()
         self.assertTrue(status["isolated"], status)
         self.assertTrue(status["program"].endswith("hapticgrasp-loader"), status)
         started = status["started"]
-        s = self.scene_until_built()
+        s = scene_until_built(self.doc)
         s.stop()
         self.assertEqual(s.core.scene_status()["exact_parts"], 1)
         self.assertEqual(s.model_sources, {0: "built"})
@@ -1500,7 +1498,7 @@ class LoaderProcess(unittest.TestCase):
     def test_a_crash_in_the_loader_costs_the_scene_its_part_only(self):
         core.clear_model_cache_memory()
         core.use_loader(self.CRASH, 20)
-        s = self.scene_until_built()
+        s = scene_until_built(self.doc)
         try:
             status = s.core.scene_status()
             self.assertEqual((status["failed"], status["exact_parts"]), (1, 0), status)
@@ -1512,7 +1510,7 @@ class LoaderProcess(unittest.TestCase):
         finally:
             s.stop()
         core.use_loader()
-        s = self.scene_until_built()
+        s = scene_until_built(self.doc)
         s.stop()
         self.assertEqual(s.core.scene_status()["exact_parts"], 1)   # a new helper loads it
 

@@ -16,6 +16,7 @@
 #include <cstring>
 #include <new>
 
+#include "geometry/process_end.hpp"
 #include "hapticgrasp/geometry/geometry_error.hpp"
 #include "hapticgrasp/sanitized.hpp"
 
@@ -31,12 +32,6 @@ constexpr char kError = 'E';
 std::string gibibytes(std::uint64_t bytes) {
   char text[32];
   std::snprintf(text, sizeof text, "%.3g GiB", bytes / double(1ull << 30));
-  return text;
-}
-
-std::string secondsText(std::chrono::milliseconds time) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g s", time.count() / 1e3);
   return text;
 }
 
@@ -100,12 +95,6 @@ bool readUntilEnd(int fd, Clock::time_point deadline, std::string& out) {
     if (n <= 0) return true;
     out.append(buffer, n);
   }
-}
-
-std::string signalName(int signal) {
-  const char* abbrev = sigabbrev_np(signal);
-  return (abbrev ? "SIG" + std::string(abbrev) : "signal " + std::to_string(signal)) + ", " +
-         strsignal(signal);
 }
 
 }  // namespace

@@ -20,6 +20,8 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "geometry/process_end.hpp"
+#include "geometry/u64_fields.hpp"
 #include "hapticgrasp/geometry/backends.hpp"
 #include "hapticgrasp/geometry/display_shape.hpp"
 #include "hapticgrasp/geometry/geometry_error.hpp"
@@ -52,18 +54,6 @@ struct LoaderProcess::Answer {
 namespace {
 
 using Frame = LoaderProcess::Answer;
-
-void putU64(std::string& out, std::uint64_t v) {
-  char b[8];
-  std::memcpy(b, &v, 8);
-  out.append(b, 8);
-}
-
-std::uint64_t getU64(std::string_view in, std::size_t at) {
-  std::uint64_t v;
-  std::memcpy(&v, in.data() + at, 8);
-  return v;
-}
 
 std::string frameBytes(const char (&magic)[4], const nlohmann::json& header, std::string_view body) {
   const std::string head = header.dump();
@@ -172,18 +162,6 @@ std::string answerTo(const Frame& request) {
 // --- the workbench's side: never blocks past the deadline --------------------------------
 
 const char* unitText(LengthUnit unit) { return unit == LengthUnit::Metre ? "m" : "mm"; }
-
-std::string signalName(int signal) {
-  const char* abbrev = sigabbrev_np(signal);
-  return (abbrev ? "SIG" + std::string(abbrev) : "signal " + std::to_string(signal)) + ", " +
-         strsignal(signal);
-}
-
-std::string secondsText(std::chrono::milliseconds time) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g s", time.count() / 1e3);
-  return text;
-}
 
 // Waits for `events` on `fd` until `deadline`; false when it passed.
 bool await(int fd, short events, Clock::time_point deadline) {

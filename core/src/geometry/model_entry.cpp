@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "geometry/u64_fields.hpp"
 #include "hapticgrasp/geometry/geometry_error.hpp"
 
 namespace hg::geometry {
@@ -45,17 +46,6 @@ PartModel::Record recordFrom(const nlohmann::json& j) {
   r.choice.surfaceMayCross = j.at("surface_may_cross").get<bool>();
   if (!(r.metresPerUnit > 0) || r.bounds.empty() || !(r.volume_m3 > 0)) throw GeometryError("implausible record");
   return r;
-}
-
-void putU64(std::string& out, std::uint64_t v) {
-  char b[8];
-  std::memcpy(b, &v, 8);
-  out.append(b, 8);
-}
-std::uint64_t getU64(std::string_view in, std::size_t at) {
-  std::uint64_t v;
-  std::memcpy(&v, in.data() + at, 8);
-  return v;
 }
 
 }  // namespace
