@@ -100,8 +100,8 @@ Parsed parseFrame(std::string_view bytes, const char (&magic)[4], Frame& out, st
 
 bool writeAll(int fd, std::string_view bytes) {
   while (!bytes.empty()) {
-    const ssize_t n = send(fd, bytes.data(), bytes.size(), MSG_NOSIGNAL);
-    if (n < 0 && errno == ENOTSOCK) return write(fd, bytes.data(), bytes.size()) == ssize_t(bytes.size());
+    ssize_t n = send(fd, bytes.data(), bytes.size(), MSG_NOSIGNAL);
+    if (n < 0 && errno == ENOTSOCK) n = write(fd, bytes.data(), bytes.size());  // a pipe: run by hand
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) return false;
     bytes.remove_prefix(n);
