@@ -285,9 +285,11 @@ class HapticGraspGui(unittest.TestCase):
             # software renderer and another test beside this one they get the leftovers
             # (measured at SCHED_IDLE: 56-70 s alone, 68-72 s beside the freecadcmd tests,
             # 66 s to over 300 s while they were kept on the GUI thread's CPU; 83 s at nice
-            # 19 beside a nice-19 fuzzer, 128 s at SCHED_IDLE: scene_build.cpp). Time is not
-            # what this test asserts; the deadline only stops a build that never ends.
-            deadline = began + 300
+            # 19 beside a nice-19 fuzzer, 128 s at SCHED_IDLE: scene_build.cpp; loaded in the
+            # loader process, 98-99 s beside a fuzzer or the freecadcmd and package tests, and
+            # 224 s beside the whole unit suite at -j2 and a fuzzer). Time is not what this
+            # test asserts; the deadline only stops a build that never ends (ctest: 900 s).
+            deadline = began + 600
             loop_times = [time.monotonic()]
             gui_cpu = time.thread_time()   # this (the GUI) thread's CPU time
             while time.monotonic() < deadline:

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -163,24 +164,27 @@ std::string answerTo(const Frame& request) {
 
 const char* unitText(LengthUnit unit) { return unit == LengthUnit::Metre ? "m" : "mm"; }
 
-// Waits for `events` on `fd` until `deadline`; false when it passed.
-bool await(int fd, short events, Clock::time_point deadline) {
+enum class Exchange { Answered, TimedOut, Cancelled, Closed, Garbled };
+
+// Waits for `events` on `fd` until `deadline`, looking at `cancelled` every 50 ms:
+// Answered when they came (or poll failed: the send or read that follows says what).
+Exchange await(int fd, short events, Clock::time_point deadline, const std::atomic<bool>* cancelled) {
   for (;;) {
+    if (cancelled && cancelled->load(std::memory_order_acquire)) return Exchange::Cancelled;
     const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - Clock::now());
-    if (left.count() <= 0) return false;
+    if (left.count() <= 0) return Exchange::TimedOut;
     pollfd p{fd, events, 0};
-    const int ready = poll(&p, 1, int(std::min<std::int64_t>(left.count(), 60'000)));
-    if (ready > 0) return true;
-    if (ready < 0 && errno != EINTR) return true;  // the send or read that follows says what
+    const int ready = poll(&p, 1, int(std::min<std::int64_t>(left.count(), cancelled ? 50 : 60'000)));
+    if (ready > 0) return Exchange::Answered;
+    if (ready < 0 && errno != EINTR) return Exchange::Answered;
   }
 }
 
-enum class Exchange { Answered, TimedOut, Closed, Garbled };
-
-// Sends `request` and reads one answer into `answer`, all before `deadline`.
-Exchange exchange(int fd, std::string_view request, Clock::time_point deadline, Frame& answer, std::string& why) {
+// Sends `request` and reads one answer into `answer`, all before `deadline` and `cancelled`.
+Exchange exchange(int fd, std::string_view request, Clock::time_point deadline, const std::atomic<bool>* cancelled,
+                  Frame& answer, std::string& why) {
   while (!request.empty()) {
-    if (!await(fd, POLLOUT, deadline)) return Exchange::TimedOut;
+    if (const Exchange e = await(fd, POLLOUT, deadline, cancelled); e != Exchange::Answered) return e;
     const ssize_t n = send(fd, request.data(), request.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
     if (n < 0 && (errno == EINTR || errno == EAGAIN)) continue;
     if (n <= 0) return Exchange::Closed;
@@ -194,7 +198,7 @@ Exchange exchange(int fd, std::string_view request, Clock::time_point deadline, 
       case Parsed::Bad: return Exchange::Garbled;
       case Parsed::Incomplete: break;
     }
-    if (!await(fd, POLLIN, deadline)) return Exchange::TimedOut;
+    if (const Exchange e = await(fd, POLLIN, deadline, cancelled); e != Exchange::Answered) return e;
     const ssize_t n = recv(fd, buffer, sizeof buffer, MSG_DONTWAIT);
     if (n < 0 && (errno == EINTR || errno == EAGAIN)) continue;
     if (n <= 0) return Exchange::Closed;
@@ -202,16 +206,22 @@ Exchange exchange(int fd, std::string_view request, Clock::time_point deadline, 
   }
 }
 
-// How a helper that stopped answering ended, once it has: its exit status, after at most 1 s.
-std::string howItEnded(pid_t pid) {
+// How a helper that stopped answering ended, once it has (at most 1 s): its exit status. A
+// helper reaped here is gone (`reaped`): its pid may already be another process's.
+std::string howItEnded(pid_t pid, bool& reaped) {
   int status = 0;
+  reaped = false;
   for (int i = 0; i < 100; ++i) {
     const pid_t done = waitpid(pid, &status, WNOHANG);
     if (done == pid) {
+      reaped = true;
       if (WIFSIGNALED(status)) return "crashed (" + signalName(WTERMSIG(status)) + ")";
       return "stopped without an answer (exit code " + std::to_string(WEXITSTATUS(status)) + ")";
     }
-    if (done < 0 && errno != EINTR) return "stopped without an answer";  // reaped elsewhere
+    if (done < 0 && errno != EINTR) {  // reaped elsewhere (SIGCHLD ignored)
+      reaped = true;
+      return "stopped without an answer";
+    }
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   return "stopped answering";
@@ -310,14 +320,14 @@ void LoaderProcess::end(Helper helper) noexcept {
 }
 
 PartModelPtr LoaderProcess::load(std::string_view brep, LengthUnit unit, const std::string& name,
-                                 const PartModel::LoadOptions& options) {
+                                 const PartModel::LoadOptions& options, const std::atomic<bool>* cancelled) {
   const nlohmann::json header = {{"job", "part"},
                                  {"name", name},
                                  {"unit", unitText(unit)},
                                  {"check_self_intersection", options.checkSelfIntersection},
                                  {"parallel", options.parallel}};
   const std::string what = "loading " + name + " in the loader process";
-  Frame answer = ask(frameBytes(kRequest, header, brep), what);
+  Frame answer = ask(frameBytes(kRequest, header, brep), what, cancelled);
   PartLoadTiming timing;
   timing.read_s = answer.header.value("read_s", 0.0);
   timing.check_s = answer.header.value("check_s", 0.0);
@@ -330,23 +340,32 @@ PartModelPtr LoaderProcess::load(std::string_view brep, LengthUnit unit, const s
 
 std::string LoaderProcess::displayableText(std::string_view binaryBrep, LengthUnit unit, const std::string& name) {
   const nlohmann::json header = {{"job", "display"}, {"name", name}, {"unit", unitText(unit)}};
-  return ask(frameBytes(kRequest, header, binaryBrep), "checking " + name + " for display in the loader process").body;
+  return ask(frameBytes(kRequest, header, binaryBrep), "checking " + name + " for display in the loader process", nullptr)
+      .body;
 }
 
-LoaderProcess::Answer LoaderProcess::ask(const std::string& request, const std::string& what) {
+LoaderProcess::Answer LoaderProcess::ask(const std::string& request, const std::string& what,
+                                         const std::atomic<bool>* cancelled) {
   Helper helper = take();
   const Clock::time_point deadline =
       options_.limits.time.count() > 0 ? Clock::now() + options_.limits.time : Clock::time_point::max();
   Answer answer;
   std::string why;
-  switch (exchange(helper.fd, request, deadline, answer, why)) {
+  switch (exchange(helper.fd, request, deadline, cancelled, answer, why)) {
     case Exchange::Answered: break;
     case Exchange::TimedOut:
       end(helper);
       throw GeometryError(what + " did not finish within " + secondsText(options_.limits.time) + ": given up");
-    case Exchange::Closed: {
-      const std::string ended = howItEnded(helper.pid);
+    case Exchange::Cancelled:
       end(helper);
+      throw GeometryError(what + " was stopped: the build was cancelled");
+    case Exchange::Closed: {
+      bool reaped = false;
+      const std::string ended = howItEnded(helper.pid, reaped);
+      if (reaped)
+        close(helper.fd);
+      else
+        end(helper);
       throw GeometryError(what + " " + ended);
     }
     case Exchange::Garbled:

@@ -17,10 +17,10 @@
 
 namespace hg::freecad {
 
-geometry::PartModelPtr loadPart(const std::string& brep, const std::string& name) {
+geometry::PartModelPtr loadPart(const std::string& brep, const std::string& name, const std::atomic<bool>* cancelled) {
   geometry::PartModel::LoadOptions options;
   options.parallel = false;  // beside a GUI and possibly a running servo thread
-  return loadPartText(brep, name, options);
+  return loadPartText(brep, name, options, cancelled);
 }
 
 PartInfo describe(const geometry::PartModel& part, const geometry::MassSpec& mass,
@@ -69,9 +69,9 @@ contact::ContactModelPtr contactShell(const grasp::ScenePart& part, std::vector<
 
 }  // namespace
 
-BuiltPart buildPart(const PartRequest& request) {
+BuiltPart buildPart(const PartRequest& request, const std::atomic<bool>* cancelled) {
   const grasp::PartPose pose = toPose(request.placement);
-  auto model = loadPart(request.brep, request.name);
+  auto model = loadPart(request.brep, request.name, cancelled);
   BuiltPart built{grasp::makeScenePart(model, request.mass, pose), {}};
   built.info = describe(*model, request.mass, *built.part.penetration);
   built.part.contact = contactShell(built.part, built.info.warnings);
@@ -120,7 +120,7 @@ void ModelBuild::run() noexcept {
     outcome.request = i;
     outcome.name = request.name;
     try {
-      outcome.built = buildPart(request);
+      outcome.built = buildPart(request, &cancel_);  // a cancel does not wait for the loader
     } catch (const std::exception& e) {
       outcome.error = e.what();
     } catch (...) {
@@ -186,7 +186,10 @@ BuiltPart ModelBuild::take(std::size_t i) {
 
 // --- Session ----------------------------------------------------------------------------
 
-Session::~Session() { stop(); }
+Session::~Session() {
+  loadsCancelled_->store(true, std::memory_order_release);  // before build_'s workers are joined
+  stop();
+}
 
 int Session::addPart(const std::string& name, const std::string& brep, const Placement& placement,
                      const geometry::MassSpec& mass) {
@@ -618,12 +621,14 @@ void Session::provideShape(std::size_t model, std::string brep) {
   const std::string name = sceneRequests_.at(firstPartOfModel(model)).name;
   auto text = std::make_shared<const std::string>(std::move(brep));
   auto sources = cacheSources_;
-  build_->provide(model, [text, name, model, sources] {
+  auto cancelled = loadsCancelled_;
+  build_->provide(model, [text, name, model, sources, cancelled] {
     // Seen before (this Start, an earlier one, another FreeCAD session): not checked again.
     geometry::PartModel::LoadOptions options;
     options.parallel = false;  // beside a GUI and the servo thread
     geometry::ModelCache::Outcome outcome;
-    auto part = geometry::ModelCache::shared().load(*text, kDocumentUnit, name, options, &outcome, cacheBuild());
+    auto part =
+        geometry::ModelCache::shared().load(*text, kDocumentUnit, name, options, &outcome, cacheBuild(cancelled));
     std::lock_guard lock(sources->mutex);
     sources->byModel[model] = std::string(geometry::toString(outcome.source)) +
                               (outcome.note.empty() ? "" : " (" + outcome.note + ")");

@@ -47,7 +47,9 @@ struct PartInfo {
 };
 
 // Parses BREP text (mm, Placement reset) into a validated part; throws GeometryError.
-geometry::PartModelPtr loadPart(const std::string& brep, const std::string& name);
+// A set `cancelled` ends a load in the loader process at once.
+geometry::PartModelPtr loadPart(const std::string& brep, const std::string& name,
+                                const std::atomic<bool>* cancelled = nullptr);
 // `penetration`: the back end that answers the part (its name goes in the summary).
 PartInfo describe(const geometry::PartModel& part, const geometry::MassSpec& mass,
                   const geometry::PenetrationModel& penetration);
@@ -56,7 +58,7 @@ struct PartRequest;
 struct BuiltPart;
 // Loads, validates and models one part (slow: OpenCASCADE checks and the penetration
 // back end); throws GeometryError / std::invalid_argument.
-BuiltPart buildPart(const PartRequest& request);
+BuiltPart buildPart(const PartRequest& request, const std::atomic<bool>* cancelled = nullptr);
 
 // One part to build: BREP text (mm, Placement reset), where it stands, its mass.
 struct PartRequest {
@@ -397,6 +399,9 @@ class Session {
     std::map<std::size_t, std::string> byModel;
   };
   std::shared_ptr<CacheSources> cacheSources_ = std::make_shared<CacheSources>();
+  // Set when the session ends: a scene model in the loader process is not waited for (its
+  // build's workers are joined next).
+  std::shared_ptr<std::atomic<bool>> loadsCancelled_ = std::make_shared<std::atomic<bool>>(false);
   std::size_t exactParts_ = 0;
 };
 

@@ -47,16 +47,19 @@ std::shared_ptr<geometry::LoaderProcess> loader() {
 }  // namespace
 
 geometry::PartModelPtr loadPartText(std::string_view brep, const std::string& name,
-                                    const geometry::PartModel::LoadOptions& options) {
-  if (const auto l = loader()) return l->load(brep, kDocumentUnit, name, options);
+                                    const geometry::PartModel::LoadOptions& options,
+                                    const std::atomic<bool>* cancelled) {
+  if (const auto l = loader()) return l->load(brep, kDocumentUnit, name, options, cancelled);
   return geometry::PartModel::fromBrepText(brep, kDocumentUnit, name, options);
 }
 
-geometry::ModelCache::Build cacheBuild() {
+geometry::ModelCache::Build cacheBuild(std::shared_ptr<const std::atomic<bool>> cancelled) {
   const auto l = loader();
   if (!l) return {};
-  return [l](std::string_view brep, geometry::LengthUnit unit, const std::string& name,
-             const geometry::PartModel::LoadOptions& options) { return l->load(brep, unit, name, options); };
+  return [l, cancelled](std::string_view brep, geometry::LengthUnit unit, const std::string& name,
+                        const geometry::PartModel::LoadOptions& options) {
+    return l->load(brep, unit, name, options, cancelled.get());
+  };
 }
 
 std::string recordedShapeText(const session::RecordedPart& part) {

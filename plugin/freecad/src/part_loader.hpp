@@ -4,6 +4,8 @@
 // process, never FreeCAD and the user's unsaved work; the part keeps its stand-in box and
 // the error names it. Without the loader's program (a broken install) parts load in
 // FreeCAD's own process, as loaderStatus() says and the workbench reports once.
+#include <atomic>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -22,11 +24,13 @@ struct LoaderStatus {
   std::string why;           // !isolated: why not
 };
 
-// The part BREP text describes (mm, Placement reset), checked; throws GeometryError.
+// The part BREP text describes (mm, Placement reset), checked; throws GeometryError. Once
+// `cancelled` is set, a load in the loader process ends at once (its helper killed).
 geometry::PartModelPtr loadPartText(std::string_view brep, const std::string& name,
-                                    const geometry::PartModel::LoadOptions& options);
+                                    const geometry::PartModel::LoadOptions& options,
+                                    const std::atomic<bool>* cancelled = nullptr);
 // For ModelCache::load: a part the cache lacks is loaded as loadPartText loads it.
-geometry::ModelCache::Build cacheBuild();
+geometry::ModelCache::Build cacheBuild(std::shared_ptr<const std::atomic<bool>> cancelled = {});
 // A recording's shape as text the Review panel may hand to FreeCAD (core
 // geometry/display_shape.hpp): checked, and meshed as FreeCAD's display will mesh it, in the
 // loader process; without one, checked here only (meshing here would hang FreeCAD as its

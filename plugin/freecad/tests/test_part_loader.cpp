@@ -5,9 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
+#include "haptic_session.hpp"
 #include "hapticgrasp/geometry/geometry_error.hpp"
 
 namespace hg::freecad {
@@ -55,6 +58,32 @@ TEST_F(PartLoader, AHelperThatCrashesCostsThePartNotTheWorkbench) {
   EXPECT_THROW(memoryOnly.load(sampleBrep("cylinder"), geometry::LengthUnit::Millimetre, "C", {}, nullptr, cacheBuild()),
                geometry::GeometryError);
   EXPECT_EQ(loaderStatus().started, 2u) << "a new helper for each part after a crash";
+}
+
+// FreeCAD closing, or Cancel pressed, while a part loops in the loader: neither the part
+// list's build nor a scene session waits out the loader's 60 s.
+TEST_F(PartLoader, ACancelledBuildOrAnEndedSessionDoesNotWaitForTheLoader) {
+  useLoader({"/bin/sh", "-c", "exec sleep 30"}, 60);
+  auto start = std::chrono::steady_clock::now();
+  {
+    ModelBuild build({PartRequest{"Block", sampleBrep("block"), Placement{}, geometry::MassSpec::density(1000)}}, false);
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    build.cancel();
+    EXPECT_TRUE(build.wait(10));
+  }
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(10));
+  start = std::chrono::steady_clock::now();
+  {
+    Session session;
+    session.useHandInput(0.5);
+    session.startScene({SceneRequest{"Block", "block", {-60, -60, -60}, {60, 60, 60}, Placement{},
+                                     geometry::MassSpec::density(1000)}},
+                       1000, false);
+    session.provideShape(0, sampleBrep("block") + " ");  // a text no cache holds
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    EXPECT_FALSE(session.sceneStatus().finished) << "the stand-in loader is still 'loading'";
+  }
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(10));
 }
 
 TEST_F(PartLoader, WithoutALoaderPartsLoadInThisProcess) {

@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <csignal>
 #include <fstream>
 #include <thread>
@@ -191,6 +192,28 @@ TEST(LoaderProcess, EveryWayAHelperFailsIsOneErrorNamingThePart) {
               "the loader process cannot start (/nonexistent/hapticgrasp-loader): No such file or directory");
   }
   EXPECT_THROW(LoaderProcess(LoaderProcess::Options{}), std::invalid_argument);
+}
+
+// A build cancelled (FreeCAD closing) does not wait out a part in a loop: its load ends
+// within 50 ms of the cancel, its helper killed, and the next load gets a new one.
+TEST(LoaderProcess, ACancelledLoadEndsAtOnce) {
+  LoaderProcess loader(shellHelper("exec sleep 30", 60s));
+  std::atomic<bool> cancelled{false};
+  std::thread cancel([&] {
+    std::this_thread::sleep_for(200ms);
+    cancelled = true;
+  });
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    loader.load(test::sample("cylinder"), LengthUnit::Millimetre, "Bracket", {}, &cancelled);
+    ADD_FAILURE() << "the load answered";
+  } catch (const GeometryError& e) {
+    EXPECT_EQ(std::string(e.what()), "loading Bracket in the loader process was stopped: the build was cancelled");
+  }
+  cancel.join();
+  EXPECT_LT(std::chrono::steady_clock::now() - start, 10s) << "not the 60 s time limit";
+  EXPECT_TRUE(loader.idle().empty());
+  EXPECT_EQ(loader.started(), 1u);
 }
 
 TEST(LoaderProcess, ARecordedShapeIsCheckedForDisplayThere) {

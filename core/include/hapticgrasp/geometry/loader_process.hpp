@@ -20,6 +20,7 @@
 // Hand-written: no Debian library runs a function in a pooled child process.
 #include <sys/types.h>
 
+#include <atomic>
 #include <cstddef>
 #include <mutex>
 #include <string>
@@ -48,10 +49,11 @@ class LoaderProcess {
 
   // PartModel::fromBrepText(brep, unit, name, options), computed by a helper; safe from any
   // thread. A defective part's robust back end is built there once too (and dropped), so
-  // that the caller's own build of it is known to end. Throws GeometryError: the load's own error, or how the helper ended (crashed,
+  // that the caller's own build of it is known to end. Once `cancelled` is set (a build
+  // cancelled, FreeCAD closing), the load ends within 50 ms, its helper killed. Throws GeometryError: the load's own error, or how the helper ended (crashed,
   // out of time, unable to start, an unreadable answer), naming the part.
   PartModelPtr load(std::string_view brep, LengthUnit unit, const std::string& name,
-                    const PartModel::LoadOptions& options = {});
+                    const PartModel::LoadOptions& options = {}, const std::atomic<bool>* cancelled = nullptr);
   // displayableBrepText(binaryBrep, unit, name) with its display mesh, computed by a helper
   // (display_shape.hpp): a recorded shape for the Review panel. Throws GeometryError: the
   // check's own ("is refused: ..."), or how the helper ended.
@@ -69,7 +71,7 @@ class LoaderProcess {
     int fd = -1;
   };
   // Sends `request` to a helper and returns its answer; throws GeometryError naming `what`.
-  Answer ask(const std::string& request, const std::string& what);
+  Answer ask(const std::string& request, const std::string& what, const std::atomic<bool>* cancelled);
   Helper take();
   Helper start();
   void giveBack(Helper helper);
