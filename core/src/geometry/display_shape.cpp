@@ -11,9 +11,11 @@
 
 #include <cmath>
 #include <sstream>
+#include <string>
 
 #include "hapticgrasp/geometry/geometry_error.hpp"
 #include "hapticgrasp/geometry/part_model.hpp"
+#include "meshing_limits.hpp"
 
 namespace hg::geometry {
 namespace {
@@ -41,9 +43,14 @@ void meshForDisplay(const TopoDS_Shape& shape, const DisplayCheck& check) {
   box.Get(x0, y0, z0, x1, y1, z1);
   const double deflection = ((x1 - x0) + (y1 - y0) + (z1 - z0)) / 300.0 * check.deviation;
   if (!(deflection > 0) || !std::isfinite(deflection)) throw GeometryError("cannot be shown: it has no finite extent");
+  const MeshingParameters parameters{deflection, check.angle_deg / 180.0 * M_PI};
+  // The view provider would mesh such a face for minutes and gigabytes (meshing_limits.hpp).
+  if (!surfaceGrids(shape, parameters).beyondTheLimit.empty())
+    throw GeometryError("cannot be shown: a face would need more than " +
+                        std::to_string(static_cast<long>(kMaxSurfaceGridNodes)) + " nodes in its display mesh");
   try {
     OCC_CATCH_SIGNALS
-    BRepMesh_IncrementalMesh mesh(shape, deflection, false, check.angle_deg / 180.0 * M_PI, false);
+    BRepMesh_IncrementalMesh mesh(shape, deflection, false, parameters.angle, false);
     if (!mesh.IsDone()) throw GeometryError("cannot be shown: its display mesh failed");
   } catch (const Standard_Failure& e) {
     throw GeometryError(std::string("cannot be shown: its display mesh failed (") + e.GetMessageString() + ")");

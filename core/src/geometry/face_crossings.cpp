@@ -471,7 +471,7 @@ class CrossingFinder {
     if (!any) return;
     const Handle(MeshingBudget) budget =
         new MeshingBudget(kMeshingChecksAtLeast + kMeshingChecksPerFace * static_cast<long>(faces_.size()));
-    meshWithin(curved, result_.deflection, kAngularDeflection, budget);
+    meshWithin(curved, {result_.deflection, kAngularDeflection}, budget);
     result_.meshingStopped = budget->spent();
     for (int i = 0; i < static_cast<int>(faces_.size()) && i < copyFaces.Extent(); ++i) {
       if (faces_[i].planar) continue;

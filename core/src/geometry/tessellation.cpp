@@ -249,14 +249,17 @@ std::vector<Triangle> fillFace(const TopoDS_Face& face, double deflection) {
   return triangles;
 }
 
-// BRepMesh on `shape`. A damaged part's mesh stops at a deadline (MeshingDeadline): a loft
-// with a few digits lost in its poles, its edges within 0.0001 mm of its faces, kept
-// BRepMesh busy at 0.01 mm for more than 30 s and 2 GB (fuzz_brep_backend), where the sound
-// loft takes 3.8 s. Then it throws, in one line.
+// BRepMesh on `shape` (meshWithin: a face whose grid of nodes would pass its limit is left
+// without triangles, and filled from its edges as others BRepMesh fails on are). A damaged
+// part's mesh stops at a deadline (MeshingDeadline): a loft with a few digits lost in its
+// poles, its edges within 0.0001 mm of its faces, kept BRepMesh busy at 0.01 mm for more
+// than 30 s and 2 GB (fuzz_brep_backend), where the sound loft takes 3.8 s. Then it throws,
+// in one line.
 bool mesh(const TopoDS_Shape& shape, double deflection, double angularDeflection_rad, bool damaged) {
-  if (!damaged) return BRepMesh_IncrementalMesh(shape, deflection, false, angularDeflection_rad, false).IsDone();
+  const MeshingParameters parameters{deflection, angularDeflection_rad};
+  if (!damaged) return meshWithin(shape, parameters, Handle(Message_ProgressIndicator)()).done;
   const Handle(MeshingDeadline) deadline = new MeshingDeadline(kDamagedMeshingSeconds);
-  const bool done = meshWithin(shape, deflection, angularDeflection_rad, deadline);
+  const bool done = meshWithin(shape, parameters, deadline).done;
   if (deadline->passed())
     throw GeometryError("meshing the damaged part did not finish within " +
                         std::to_string(static_cast<int>(kDamagedMeshingSeconds)) + " s");
