@@ -139,8 +139,9 @@ void failFacesBeyondTheLimit(const IMeshTools_Context& context, SurfaceGrids& gr
 
 // BRepMesh's own steps, with the faces beyond the limit failed before the pre-processor.
 // The seam amplifier in BRepMesh_ModelPreProcessor does not look at a face's status: with
-// such a cone in the model the pre-processor is skipped, which loses the other cones' extra
-// seam points and the reuse of triangulations, neither of which the copies meshed here have.
+// such a cone in the model the pre-processor is skipped. That loses the other cones' extra
+// seam points (a damaged shape's cones get a coarser seam) and the reuse or cleaning of
+// earlier triangulations (the shapes meshed here are copies that carry none).
 class GridLimitedContext final : public BRepMesh_Context {
  public:
   Standard_Boolean PreProcessModel() override {
