@@ -2,7 +2,6 @@
 
 #include <BRepAdaptor_Curve.hxx>
 #include <BRepBuilderAPI_Copy.hxx>
-#include <BRepMesh_IncrementalMesh.hxx>
 #include <BRepMesh_Triangulator.hxx>
 #include <BRepTools.hxx>
 #include <BRepTools_WireExplorer.hxx>
