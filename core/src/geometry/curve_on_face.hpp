@@ -88,7 +88,7 @@ std::string firstCurveOnFace(const TopoDS_Shape& shape, const std::function<std:
 // an edge that is not degenerate yet has no 3D curve (BRepCheck's No3DCurve: BRepMesh tessellates it through a
 // curve on a face and, on a damaged one, did not end), an edge that goes round its curve
 // more than kMaxEdgeTurns times (a circle on [4.7, 6.9e16], or 98 times round: meshing it
-// never ended), or whose
+// never ended; a trimmed circle counts as its circle), or whose
 // curve on a face runs away (CurveOnFace::runaway). The loader refuses such a part: no back
 // end can be built from it (ShapeFix's rebuilt 3D curve of a damaged edge ran to 2e100).
 std::string damagedGeometry(const TopoDS_Shape& shape);

@@ -13,6 +13,7 @@
 #include <BRep_Tool.hxx>
 #include <Geom2d_Curve.hxx>
 #include <Geom_Curve.hxx>
+#include <Geom_TrimmedCurve.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopExp.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
@@ -173,6 +174,24 @@ TEST(CurveOnFace, AnEdgeMayGoRoundOnceWithRoundOff) {
           BRep_Builder().Range(edge, first, first + turns * curve->Period(), true);
         });
     EXPECT_EQ(damagedGeometry(cylinder).empty(), turns < 1.01) << turns << " turns: " << damagedGeometry(cylinder);
+  }
+}
+
+// A half cylinder's top edge on [0.1, 3.4e13] (a digit turned into a space) along a half
+// circle, a trimmed circle, which is not periodic itself: BRepMesh's model of it took 6 GB
+// in 10 s. A trimmed circle counts as its circle: a whole cylinder's circles trimmed to a
+// half, their edges' ranges kept or doubled, load once round and not twice.
+TEST(CurveOnFace, AnEdgeThatGoesRoundATrimmedCircleIsNamed) {
+  EXPECT_EQ(damagedGeometry(readSeed("oom_edge_round_trimmed_circle.brep")),
+            "edge 4 goes 5.44e+12 times round its curve (an edge goes round once at most)");
+  for (const double turns : {1.0, 2.0}) {
+    const TopoDS_Shape cylinder =
+        cylinderWithCircles([turns](const TopoDS_Edge& edge, const Handle(Geom_Curve)& curve, double first, double) {
+          const Handle(Geom_Curve) half = new Geom_TrimmedCurve(curve, first, first + M_PI);
+          BRep_Builder().UpdateEdge(edge, half, 1e-7);
+          BRep_Builder().Range(edge, first, first + turns * 2 * M_PI, true);
+        });
+    EXPECT_EQ(damagedGeometry(cylinder).empty(), turns == 1.0) << turns << " turns: " << damagedGeometry(cylinder);
   }
 }
 
