@@ -23,6 +23,7 @@
 #include <cstdio>
 #include <tuple>
 
+#include "rational_weights.hpp"
 #include "shape_names.hpp"
 
 namespace hg::geometry {
@@ -216,6 +217,7 @@ std::string firstCurveOnFace(const TopoDS_Shape& shape, const std::function<std:
 }
 
 std::string damagedGeometry(const TopoDS_Shape& shape) {
+  if (std::string weights = weightsTooFarApart(shape); !weights.empty()) return weights;
   for (TopExp_Explorer e(shape, TopAbs_EDGE); e.More(); e.Next()) {
     const TopoDS_Edge& edge = TopoDS::Edge(e.Current());
     double first = 0, last = 0;

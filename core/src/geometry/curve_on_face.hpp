@@ -82,7 +82,8 @@ inline constexpr double kMaxEdgeStray = 0.01;
 // evaluated").
 std::string firstCurveOnFace(const TopoDS_Shape& shape, const std::function<std::string(const CurveOnFace&)>& why);
 
-// Why OCCT's algorithms cannot be run on this shape at all, or "": a degenerate edge that
+// Why OCCT's algorithms cannot be run on this shape at all, or "": weights of a rational
+// curve or surface too far apart to compute with (rational_weights.hpp), a degenerate edge that
 // is not a point (CurveOnFace::falseDegenerate, against the span of the part's vertices),
 // a seam whose two curves on a face coincide (CurveOnFace::seamOnItself),
 // an edge that is not degenerate yet has no 3D curve (BRepCheck's No3DCurve: BRepMesh tessellates it through a
