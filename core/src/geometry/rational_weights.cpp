@@ -61,26 +61,25 @@ double surfaceSpread(const Surface& surface) {
   return spread(weights);
 }
 
-double weightSpread(Handle(Geom_Curve) curve) {
-  while (true) {  // down to what the curve is made from
-    if (const auto t = Handle(Geom_TrimmedCurve)::DownCast(curve)) curve = t->BasisCurve();
-    else if (const auto o = Handle(Geom_OffsetCurve)::DownCast(curve)) curve = o->BasisCurve();
+// A 3D curve or a curve on a face, down through trims and offsets to what it is made from.
+template <class Trimmed, class Offset, class BSpline, class Bezier, class Curve>
+double madeFromSpread(opencascade::handle<Curve> curve) {
+  while (true) {
+    if (const auto t = opencascade::handle<Trimmed>::DownCast(curve)) curve = t->BasisCurve();
+    else if (const auto o = opencascade::handle<Offset>::DownCast(curve)) curve = o->BasisCurve();
     else break;
   }
-  if (const auto b = Handle(Geom_BSplineCurve)::DownCast(curve)) return curveSpread(b);
-  if (const auto b = Handle(Geom_BezierCurve)::DownCast(curve)) return curveSpread(b);
+  if (const auto b = opencascade::handle<BSpline>::DownCast(curve)) return curveSpread(b);
+  if (const auto b = opencascade::handle<Bezier>::DownCast(curve)) return curveSpread(b);
   return 1;
 }
 
-double weightSpread(Handle(Geom2d_Curve) curve) {
-  while (true) {
-    if (const auto t = Handle(Geom2d_TrimmedCurve)::DownCast(curve)) curve = t->BasisCurve();
-    else if (const auto o = Handle(Geom2d_OffsetCurve)::DownCast(curve)) curve = o->BasisCurve();
-    else break;
-  }
-  if (const auto b = Handle(Geom2d_BSplineCurve)::DownCast(curve)) return curveSpread(b);
-  if (const auto b = Handle(Geom2d_BezierCurve)::DownCast(curve)) return curveSpread(b);
-  return 1;
+double weightSpread(const Handle(Geom_Curve)& curve) {
+  return madeFromSpread<Geom_TrimmedCurve, Geom_OffsetCurve, Geom_BSplineCurve, Geom_BezierCurve>(curve);
+}
+
+double weightSpread(const Handle(Geom2d_Curve)& curve) {
+  return madeFromSpread<Geom2d_TrimmedCurve, Geom2d_OffsetCurve, Geom2d_BSplineCurve, Geom2d_BezierCurve>(curve);
 }
 
 double weightSpread(Handle(Geom_Surface) surface) {
