@@ -4,11 +4,15 @@
 #include <BRepAdaptor_Curve.hxx>
 #include <BRepLib_ValidateEdge.hxx>
 #include <BRepBndLib.hxx>
+#include <BRep_CurveRepresentation.hxx>
+#include <BRep_GCurve.hxx>
+#include <BRep_TEdge.hxx>
 #include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
 #include <GeomAdaptor_Surface.hxx>
 #include <Geom_Curve.hxx>
 #include <Geom_ElementarySurface.hxx>
+#include <Geom2d_TrimmedCurve.hxx>
 #include <Geom_TrimmedCurve.hxx>
 #include <Precision.hxx>
 #include <Standard_Failure.hxx>
@@ -53,6 +57,58 @@ Handle(Geom_Curve) untrimmed(Handle(Geom_Curve) curve) {
   while (const Handle(Geom_TrimmedCurve) trimmed = Handle(Geom_TrimmedCurve)::DownCast(curve))
     curve = trimmed->BasisCurve();
   return curve;
+}
+
+Handle(Geom2d_Curve) untrimmed(Handle(Geom2d_Curve) curve) {
+  while (const Handle(Geom2d_TrimmedCurve) trimmed = Handle(Geom2d_TrimmedCurve)::DownCast(curve))
+    curve = trimmed->BasisCurve();
+  return curve;
+}
+
+// How many times [first, last] goes round a periodic curve; 0 on one that is not.
+template <class Curve>
+double turns(const Curve& curve, double first, double last) {
+  return curve->IsPeriodic() ? std::abs(last - first) / curve->Period() : 0;
+}
+
+std::string goesRound(double turns, const std::string& what) {
+  char text[96];
+  std::snprintf(text, sizeof text, " goes %.3g times round its curve%s (an edge goes round once at most)", turns,
+                what.c_str());
+  return text;
+}
+
+// The face of `shape` that a curve representation of `edge` lies on, in words.
+std::string faceOf(const TopoDS_Shape& shape, const TopoDS_Edge& edge, const BRep_CurveRepresentation& on) {
+  for (TopExp_Explorer f(shape, TopAbs_FACE); f.More(); f.Next()) {
+    TopLoc_Location location;
+    const Handle(Geom_Surface) surface = BRep_Tool::Surface(TopoDS::Face(f.Current()), location);
+    if (on.IsCurveOnSurface(surface, location.Predivided(edge.Location()))) return subShapeName(shape, f.Current());
+  }
+  return "a face";
+}
+
+// An edge that goes round its 3D curve, or a curve stored on one of its faces, more than
+// kMaxEdgeTurns times, in words, or "". Only stored curves on faces are read: OCCT makes up
+// a missing one on a plane by a projection that can itself loop (fuzz_brep: a half
+// cylinder's top edge on [0, 1.4e13] along a circle on its plane top face, on which
+// BRepCheck's wire self-intersection never ended).
+std::string edgeGoesRound(const TopoDS_Shape& shape, const TopoDS_Edge& edge) {
+  double first = 0, last = 0;
+  const Handle(Geom_Curve) curve = BRep_Tool::Curve(edge, first, last);
+  if (curve.IsNull()) return subShapeName(shape, edge) + " has no 3D curve";
+  if (const double n = turns(untrimmed(curve), first, last); !(n <= kMaxEdgeTurns))
+    return subShapeName(shape, edge) + goesRound(n, "");
+  const auto& tedge = static_cast<const BRep_TEdge&>(*edge.TShape());
+  for (BRep_ListIteratorOfListOfCurveRepresentation r(tedge.Curves()); r.More(); r.Next()) {
+    if (!r.Value()->IsCurveOnSurface()) continue;
+    const auto& on = static_cast<const BRep_GCurve&>(*r.Value());
+    on.Range(first, last);
+    for (const Handle(Geom2d_Curve)& pcurve : {on.PCurve(), on.IsCurveOnClosedSurface() ? on.PCurve2() : on.PCurve()})
+      if (const double n = pcurve.IsNull() ? 0 : turns(untrimmed(pcurve), first, last); !(n <= kMaxEdgeTurns))
+        return subShapeName(shape, edge) + goesRound(n, " on " + faceOf(shape, edge, on));
+  }
+  return "";
 }
 
 bool isPlane(const TopoDS_Face& face) {
@@ -220,18 +276,9 @@ std::string damagedGeometry(const TopoDS_Shape& shape) {
   if (std::string weights = weightsTooFarApart(shape); !weights.empty()) return weights;
   for (TopExp_Explorer e(shape, TopAbs_EDGE); e.More(); e.Next()) {
     const TopoDS_Edge& edge = TopoDS::Edge(e.Current());
-    double first = 0, last = 0;
     try {
       if (BRep_Tool::Degenerated(edge)) continue;  // a pole or apex: no 3D curve (falseDegenerate below)
-      const Handle(Geom_Curve) trimmed = BRep_Tool::Curve(edge, first, last);
-      if (trimmed.IsNull()) return subShapeName(shape, edge) + " has no 3D curve";
-      const Handle(Geom_Curve) curve = untrimmed(trimmed);
-      if (!curve->IsPeriodic()) continue;
-      if (const double turns = std::abs(last - first) / curve->Period(); !(turns <= kMaxEdgeTurns)) {
-        char text[96];
-        std::snprintf(text, sizeof text, " goes %.3g times round its curve (an edge goes round once at most)", turns);
-        return subShapeName(shape, edge) + text;
-      }
+      if (std::string round = edgeGoesRound(shape, edge); !round.empty()) return round;
     } catch (const Standard_Failure&) {
       return subShapeName(shape, edge) + "'s curve cannot be evaluated";
     }

@@ -87,9 +87,10 @@ std::string firstCurveOnFace(const TopoDS_Shape& shape, const std::function<std:
 // is not a point (CurveOnFace::falseDegenerate, against the span of the part's vertices),
 // a seam whose two curves on a face coincide (CurveOnFace::seamOnItself),
 // an edge that is not degenerate yet has no 3D curve (BRepCheck's No3DCurve: BRepMesh tessellates it through a
-// curve on a face and, on a damaged one, did not end), an edge that goes round its curve
-// more than kMaxEdgeTurns times (a circle on [4.7, 6.9e16], or 98 times round: meshing it
-// never ended; a trimmed circle counts as its circle), or whose
+// curve on a face and, on a damaged one, did not end), an edge that goes round its 3D
+// curve or a curve stored on a face more than kMaxEdgeTurns times (a circle on [4.7,
+// 6.9e16], or 98 times round: meshing it never ended; a trimmed circle counts as its circle;
+// a circle on a plane 2e12 times round: BRepCheck never ended), or whose
 // curve on a face runs away (CurveOnFace::runaway). The loader refuses such a part: no back
 // end can be built from it (ShapeFix's rebuilt 3D curve of a damaged edge ran to 2e100).
 std::string damagedGeometry(const TopoDS_Shape& shape);

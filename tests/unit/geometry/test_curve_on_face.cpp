@@ -195,6 +195,28 @@ TEST(CurveOnFace, AnEdgeThatGoesRoundATrimmedCircleIsNamed) {
   }
 }
 
+// The same half cylinder's top edge on [0, 1.4e13] along its circle on the plane top face
+// (its 3D curve is sound): BRepCheck's wire self-intersection never ended. Curves stored on
+// faces count too: a whole cylinder's circles on its plane faces, their ranges kept or
+// doubled there, load once round and not twice.
+TEST(CurveOnFace, AnEdgeThatGoesRoundItsCurveOnAFaceIsNamed) {
+  EXPECT_EQ(damagedGeometry(readSeed("timeout_edge_round_its_circle_on_a_plane.brep")),
+            "edge 4 goes 2.25e+12 times round its curve on face 4 (an edge goes round once at most)");
+  for (const double turns : {1.0, 2.0}) {
+    const TopoDS_Shape cylinder = BRepBuilderAPI_Copy(BRepPrimAPI_MakeCylinder(50, 400).Shape()).Shape();
+    TopTools_IndexedMapOfShape faces;
+    TopExp::MapShapes(cylinder, TopAbs_FACE, faces);
+    const TopoDS_Face& bottom = TopoDS::Face(faces(3));  // a plane
+    for (TopExp_Explorer e(bottom, TopAbs_EDGE); e.More(); e.Next()) {
+      double first = 0, last = 0;
+      BRep_Tool::CurveOnSurface(TopoDS::Edge(e.Current()), bottom, first, last);
+      BRep_Builder().Range(TopoDS::Edge(e.Current()), bottom, first, first + turns * 2 * M_PI);
+    }
+    EXPECT_EQ(damagedGeometry(cylinder),
+              turns == 1.0 ? "" : "edge 3 goes 2 times round its curve on face 3 (an edge goes round once at most)");
+  }
+}
+
 // A cone's semi-angle with its sign flipped (and its radius a digit longer): the apex edge
 // lies on a circle of 88 mm, and BRepMesh's edge tessellation never ended on it.
 TEST(CurveOnFace, ADegenerateEdgeThatIsNoPointIsNamed) {
