@@ -20,6 +20,7 @@
 #include <TopExp_Explorer.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
+#include <TopoDS_Vertex.hxx>
 #include <gp_Pnt2d.hxx>
 
 #include <algorithm>
@@ -107,6 +108,19 @@ std::string edgeGoesRound(const TopoDS_Shape& shape, const TopoDS_Edge& edge) {
     for (const Handle(Geom2d_Curve)& pcurve : {on.PCurve(), on.IsCurveOnClosedSurface() ? on.PCurve2() : on.PCurve()})
       if (const double n = pcurve.IsNull() ? 0 : turns(untrimmed(pcurve), first, last); !(n <= kMaxEdgeTurns))
         return subShapeName(shape, edge) + goesRound(n, " on " + faceOf(shape, edge, on));
+  }
+  return "";
+}
+
+// An edge without a vertex at an end or both, in words, or "". OCCT takes such an edge as
+// unbounded: BRepBuilderAPI_Copy, as the crossing search copies the part, gave a parabola
+// edge [-2e100, 2e100], and BRepMesh tessellated it for good (fuzz_brep: a vertex record
+// lost to a stray byte). Checked last: the damage the other checks name is more telling.
+std::string edgeWithoutEnds(const TopoDS_Shape& shape) {
+  for (TopExp_Explorer e(shape, TopAbs_EDGE); e.More(); e.Next()) {
+    const TopoDS_Edge& edge = TopoDS::Edge(e.Current());
+    if (TopExp::FirstVertex(edge).IsNull() || TopExp::LastVertex(edge).IsNull())
+      return subShapeName(shape, edge) + " has no vertex at one end or both";
   }
   return "";
 }
@@ -290,7 +304,10 @@ std::string damagedGeometry(const TopoDS_Shape& shape) {
     return runaway;
   if (std::string seam = firstCurveOnFace(shape, [](const CurveOnFace& c) { return c.seamOnItself(); }); !seam.empty())
     return seam;
-  return firstCurveOnFace(shape, [size](const CurveOnFace& c) { return c.falseDegenerate(size); });
+  if (std::string apex = firstCurveOnFace(shape, [size](const CurveOnFace& c) { return c.falseDegenerate(size); });
+      !apex.empty())
+    return apex;
+  return edgeWithoutEnds(shape);
 }
 
 }  // namespace hg::geometry

@@ -82,7 +82,8 @@ inline constexpr double kMaxEdgeStray = 0.01;
 // evaluated").
 std::string firstCurveOnFace(const TopoDS_Shape& shape, const std::function<std::string(const CurveOnFace&)>& why);
 
-// Why OCCT's algorithms cannot be run on this shape at all, or "": weights of a rational
+// Why OCCT's algorithms cannot be run on this shape at all, or "": an edge without a vertex
+// at an end (OCCT takes it as unbounded), weights of a rational
 // curve or surface too far apart to compute with (rational_weights.hpp), a degenerate edge that
 // is not a point (CurveOnFace::falseDegenerate, against the span of the part's vertices),
 // a seam whose two curves on a face coincide (CurveOnFace::seamOnItself),

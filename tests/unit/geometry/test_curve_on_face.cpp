@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <BRepBuilderAPI_Copy.hxx>
+#include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCone.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
@@ -13,6 +14,7 @@
 #include <BRep_Tool.hxx>
 #include <Geom2d_Curve.hxx>
 #include <Geom_Curve.hxx>
+#include <Geom_Line.hxx>
 #include <Geom_TrimmedCurve.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopExp.hxx>
@@ -215,6 +217,18 @@ TEST(CurveOnFace, AnEdgeThatGoesRoundItsCurveOnAFaceIsNamed) {
     EXPECT_EQ(damagedGeometry(cylinder),
               turns == 1.0 ? "" : "edge 3 goes 2 times round its curve on face 3 (an edge goes round once at most)");
   }
+}
+
+// A torus whose vertex record was lost to a stray byte, its seam circle made a parabola:
+// the crossing search's copy of the part made the edge without ends [-2e100, 2e100], and
+// BRepMesh tessellated it for good. An edge built without vertices is named; with them, not.
+TEST(CurveOnFace, AnEdgeWithoutItsVerticesIsNamed) {
+  EXPECT_EQ(damagedGeometry(readSeed("timeout_edge_without_vertices.brep")),
+            "edge 1 has no vertex at one end or both");
+  TopoDS_Edge bare;
+  BRep_Builder().MakeEdge(bare, new Geom_Line(gp::Origin(), gp::DX()), 1e-7);
+  EXPECT_EQ(damagedGeometry(bare), "edge 1 has no vertex at one end or both");
+  EXPECT_EQ(damagedGeometry(BRepBuilderAPI_MakeEdge(gp_Pnt(0, 0, 0), gp_Pnt(10, 0, 0)).Edge()), "");
 }
 
 // A cone's semi-angle with its sign flipped (and its radius a digit longer): the apex edge
