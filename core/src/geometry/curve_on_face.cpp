@@ -50,19 +50,14 @@ bool runsAway(double p, double lo, double hi, bool periodic, double period, doub
 
 const std::string kTimes = std::to_string(static_cast<int>(kMaxPeriods));
 
-// The curve an edge's parameters run along. A trimmed curve evaluates its basis curve at any
-// parameter, inside its trim or not, yet is never periodic itself (Geom_TrimmedCurve says so
-// even of a half circle): an edge on a trimmed circle goes round the circle (fuzz_brep: a
-// half cylinder's top edge on [0.1, 3.4e13], whose mesh took 6 GB in 10 s).
-Handle(Geom_Curve) untrimmed(Handle(Geom_Curve) curve) {
-  while (const Handle(Geom_TrimmedCurve) trimmed = Handle(Geom_TrimmedCurve)::DownCast(curve))
-    curve = trimmed->BasisCurve();
-  return curve;
-}
-
-Handle(Geom2d_Curve) untrimmed(Handle(Geom2d_Curve) curve) {
-  while (const Handle(Geom2d_TrimmedCurve) trimmed = Handle(Geom2d_TrimmedCurve)::DownCast(curve))
-    curve = trimmed->BasisCurve();
+// The curve an edge's parameters run along (Trimmed: Geom_TrimmedCurve or Geom2d_TrimmedCurve).
+// A trimmed curve evaluates its basis curve at any parameter, inside its trim or not, yet is
+// never periodic itself (Geom_TrimmedCurve says so even of a half circle): an edge on a
+// trimmed circle goes round the circle (fuzz_brep: a half cylinder's top edge on
+// [0.1, 3.4e13], whose mesh took 6 GB in 10 s).
+template <class Trimmed, class Curve>
+opencascade::handle<Curve> untrimmed(opencascade::handle<Curve> curve) {
+  while (const auto trimmed = opencascade::handle<Trimmed>::DownCast(curve)) curve = trimmed->BasisCurve();
   return curve;
 }
 
@@ -98,16 +93,17 @@ std::string edgeGoesRound(const TopoDS_Shape& shape, const TopoDS_Edge& edge) {
   double first = 0, last = 0;
   const Handle(Geom_Curve) curve = BRep_Tool::Curve(edge, first, last);
   if (curve.IsNull()) return subShapeName(shape, edge) + " has no 3D curve";
-  if (const double n = turns(untrimmed(curve), first, last); !(n <= kMaxEdgeTurns))
+  if (const double n = turns(untrimmed<Geom_TrimmedCurve>(curve), first, last); !(n <= kMaxEdgeTurns))
     return subShapeName(shape, edge) + goesRound(n, "");
   const auto& tedge = static_cast<const BRep_TEdge&>(*edge.TShape());
   for (BRep_ListIteratorOfListOfCurveRepresentation r(tedge.Curves()); r.More(); r.Next()) {
     if (!r.Value()->IsCurveOnSurface()) continue;
     const auto& on = static_cast<const BRep_GCurve&>(*r.Value());
     on.Range(first, last);
-    for (const Handle(Geom2d_Curve)& pcurve : {on.PCurve(), on.IsCurveOnClosedSurface() ? on.PCurve2() : on.PCurve()})
-      if (const double n = pcurve.IsNull() ? 0 : turns(untrimmed(pcurve), first, last); !(n <= kMaxEdgeTurns))
-        return subShapeName(shape, edge) + goesRound(n, " on " + faceOf(shape, edge, on));
+    for (const Handle(Geom2d_Curve)& pcurve : {on.PCurve(), on.IsCurveOnClosedSurface() ? on.PCurve2() : on.PCurve()}) {
+      const double n = pcurve.IsNull() ? 0 : turns(untrimmed<Geom2d_TrimmedCurve>(pcurve), first, last);
+      if (!(n <= kMaxEdgeTurns)) return subShapeName(shape, edge) + goesRound(n, " on " + faceOf(shape, edge, on));
+    }
   }
   return "";
 }
