@@ -4,9 +4,6 @@
 #include <BRepAdaptor_Curve.hxx>
 #include <BRepLib_ValidateEdge.hxx>
 #include <BRepBndLib.hxx>
-#include <BRep_CurveRepresentation.hxx>
-#include <BRep_GCurve.hxx>
-#include <BRep_TEdge.hxx>
 #include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
 #include <GeomAdaptor_Surface.hxx>
@@ -30,6 +27,7 @@
 
 #include "rational_weights.hpp"
 #include "shape_names.hpp"
+#include "stored_curves.hpp"
 
 namespace hg::geometry {
 namespace {
@@ -74,16 +72,6 @@ std::string goesRound(double turns, const std::string& what) {
   return text;
 }
 
-// The face of `shape` that a curve representation of `edge` lies on, in words.
-std::string faceOf(const TopoDS_Shape& shape, const TopoDS_Edge& edge, const BRep_CurveRepresentation& on) {
-  for (TopExp_Explorer f(shape, TopAbs_FACE); f.More(); f.Next()) {
-    TopLoc_Location location;
-    const Handle(Geom_Surface) surface = BRep_Tool::Surface(TopoDS::Face(f.Current()), location);
-    if (on.IsCurveOnSurface(surface, location.Predivided(edge.Location()))) return subShapeName(shape, f.Current());
-  }
-  return "a face";
-}
-
 // An edge that goes round its 3D curve, or a curve stored on one of its faces, more than
 // kMaxEdgeTurns times, in words, or "". Only stored curves on faces are read: OCCT makes up
 // a missing one on a plane by a projection that can itself loop (fuzz_brep: a half
@@ -95,15 +83,9 @@ std::string edgeGoesRound(const TopoDS_Shape& shape, const TopoDS_Edge& edge) {
   if (curve.IsNull()) return subShapeName(shape, edge) + " has no 3D curve";
   if (const double n = turns(untrimmed<Geom_TrimmedCurve>(curve), first, last); !(n <= kMaxEdgeTurns))
     return subShapeName(shape, edge) + goesRound(n, "");
-  const auto& tedge = static_cast<const BRep_TEdge&>(*edge.TShape());
-  for (BRep_ListIteratorOfListOfCurveRepresentation r(tedge.Curves()); r.More(); r.Next()) {
-    if (!r.Value()->IsCurveOnSurface()) continue;
-    const auto& on = static_cast<const BRep_GCurve&>(*r.Value());
-    on.Range(first, last);
-    for (const Handle(Geom2d_Curve)& pcurve : {on.PCurve(), on.IsCurveOnClosedSurface() ? on.PCurve2() : on.PCurve()}) {
-      const double n = pcurve.IsNull() ? 0 : turns(untrimmed<Geom2d_TrimmedCurve>(pcurve), first, last);
-      if (!(n <= kMaxEdgeTurns)) return subShapeName(shape, edge) + goesRound(n, " on " + faceOf(shape, edge, on));
-    }
+  for (const StoredCurveOnFace& stored : storedCurvesOnFaces(edge)) {
+    const double n = turns(untrimmed<Geom2d_TrimmedCurve>(stored.curve), stored.first, stored.last);
+    if (!(n <= kMaxEdgeTurns)) return subShapeName(shape, edge) + goesRound(n, " on " + faceOf(shape, edge, stored));
   }
   return "";
 }

@@ -26,6 +26,7 @@
 #include <functional>
 
 #include "shape_names.hpp"
+#include "stored_curves.hpp"
 
 namespace hg::geometry {
 namespace {
@@ -103,22 +104,18 @@ void widen(WeightSpread& widest, double spread, const std::function<std::string(
 WeightSpread widestWeights(const TopoDS_Shape& shape) {
   WeightSpread widest;
   for (TopExp_Explorer f(shape, TopAbs_FACE); f.More(); f.Next()) {
-    const TopoDS_Face& face = TopoDS::Face(f.Current());
     TopLoc_Location location;
-    if (const Handle(Geom_Surface) surface = BRep_Tool::Surface(face, location); !surface.IsNull())
-      widen(widest, weightSpread(surface), [&] { return subShapeName(shape, face) + "'s surface"; });
-    for (TopExp_Explorer e(face, TopAbs_EDGE); e.More(); e.Next()) {
-      const TopoDS_Edge& edge = TopoDS::Edge(e.Current());
-      double first = 0, last = 0;
-      if (const Handle(Geom2d_Curve) curve = BRep_Tool::CurveOnSurface(edge, face, first, last); !curve.IsNull())
-        widen(widest, weightSpread(curve),
-              [&] { return subShapeName(shape, edge) + "'s curve on " + subShapeName(shape, face); });
-    }
+    if (const Handle(Geom_Surface) surface = BRep_Tool::Surface(TopoDS::Face(f.Current()), location); !surface.IsNull())
+      widen(widest, weightSpread(surface), [&] { return subShapeName(shape, f.Current()) + "'s surface"; });
   }
   for (TopExp_Explorer e(shape, TopAbs_EDGE); e.More(); e.Next()) {
+    const TopoDS_Edge& edge = TopoDS::Edge(e.Current());
     double first = 0, last = 0;
-    if (const Handle(Geom_Curve) curve = BRep_Tool::Curve(TopoDS::Edge(e.Current()), first, last); !curve.IsNull())
-      widen(widest, weightSpread(curve), [&] { return subShapeName(shape, e.Current()) + "'s curve"; });
+    if (const Handle(Geom_Curve) curve = BRep_Tool::Curve(edge, first, last); !curve.IsNull())
+      widen(widest, weightSpread(curve), [&] { return subShapeName(shape, edge) + "'s curve"; });
+    for (const StoredCurveOnFace& stored : storedCurvesOnFaces(edge))  // never a made-up one
+      widen(widest, weightSpread(stored.curve),
+            [&] { return subShapeName(shape, edge) + "'s curve on " + faceOf(shape, edge, stored); });
   }
   return widest;
 }
