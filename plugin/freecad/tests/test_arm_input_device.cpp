@@ -81,7 +81,11 @@ TEST(ArmInputDevice, SilentUntilFedAndAfterTheHoldTime) {
 #ifdef HG_SANITIZED
   GTEST_SKIP() << "the arm is simulated at wall-clock speed; under a sanitizer it falls behind real time";
 #endif
-  freecad::ArmInputDevice arm(kRest, Vec3::Zero(), 0.05);
+  // The hold time is long against a busy machine's stalls (CI once stalled this thread past
+  // a 50 ms hold between feeding and reading); the wait for silence is past it by a margin,
+  // and a sleep never ends early, so neither expectation depends on the machine's load.
+  constexpr double kHold_s = 1.0;
+  freecad::ArmInputDevice arm(kRest, Vec3::Zero(), kHold_s);
   device::DeviceSample sample;
   EXPECT_FALSE(arm.read(sample));  // no target yet
   std::this_thread::sleep_for(2ms);
@@ -89,7 +93,7 @@ TEST(ArmInputDevice, SilentUntilFedAndAfterTheHoldTime) {
   EXPECT_TRUE(arm.read(sample));
   std::this_thread::sleep_for(2ms);
   EXPECT_TRUE(arm.read(sample));  // held
-  std::this_thread::sleep_for(80ms);
+  std::this_thread::sleep_for(std::chrono::duration<double>(kHold_s + 0.1));
   EXPECT_FALSE(arm.read(sample));  // not fed for longer than the hold time
   arm.setTarget(shifted(arm.restPose(), Vec3::Zero()));
   std::this_thread::sleep_for(2ms);

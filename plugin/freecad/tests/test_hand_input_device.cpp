@@ -13,7 +13,10 @@ using namespace hg;
 using namespace std::chrono_literals;
 
 TEST(HandInputDevice, SilentUntilFedAndAfterTheHoldTime) {
-  freecad::HandInputDevice device(0.05);
+  // A hold long against a busy machine's stalls, and a wait past it: a sleep never ends
+  // early, so neither expectation depends on the machine's load.
+  constexpr double kHold_s = 1.0;
+  freecad::HandInputDevice device(kHold_s);
   device::DeviceSample sample;
   EXPECT_FALSE(device.read(sample));
   grasp::HandSample hand;
@@ -24,7 +27,7 @@ TEST(HandInputDevice, SilentUntilFedAndAfterTheHoldTime) {
   EXPECT_TRUE(sample.hand.index.isApprox(hand.index));
   EXPECT_TRUE(sample.hand.thumb.isApprox(hand.thumb));
   EXPECT_TRUE(device.read(sample));  // held: the servo reads it every tick
-  std::this_thread::sleep_for(80ms);
+  std::this_thread::sleep_for(std::chrono::duration<double>(kHold_s + 0.1));
   EXPECT_FALSE(device.read(sample));  // not fed for longer than the hold time
   device.setHand(hand);
   EXPECT_TRUE(device.read(sample));
