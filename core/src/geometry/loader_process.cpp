@@ -27,6 +27,7 @@
 #include "hapticgrasp/geometry/display_shape.hpp"
 #include "hapticgrasp/geometry/geometry_error.hpp"
 #include "hapticgrasp/geometry/model_entry.hpp"
+#include "hapticgrasp/geometry/occt_faults.hpp"
 #include "hapticgrasp/sanitized.hpp"
 
 extern char** environ;
@@ -142,6 +143,7 @@ std::string answerTo(const Frame& request) {
   nlohmann::json header = {{"done", false}};
   std::string body;
   const std::string name = request.header.value("name", std::string("the part"));
+  const unsigned long faultsBefore = occtFaultsCaught();
   try {
     const std::string job = request.header.at("job").get<std::string>();
     if (job == "part")
@@ -157,6 +159,9 @@ std::string answerTo(const Frame& request) {
   } catch (const Standard_Failure& e) {
     body = "loading " + name + ": OpenCASCADE failed: " + e.GetMessageString();
   }
+  // A fault's jump lost what the frames it skipped held (memory, perhaps a lock): this
+  // helper takes no further request (loader_process.hpp).
+  if (occtFaultsCaught() != faultsBefore) header["retire"] = true;
   return frameBytes(kAnswer, header, body);
 }
 
@@ -372,7 +377,10 @@ LoaderProcess::Answer LoaderProcess::ask(const std::string& request, const std::
       end(helper);
       throw GeometryError(what + ": its answer is garbled (" + why + ")");
   }
-  giveBack(helper);
+  if (answer.header.value("retire", false))
+    end(helper);
+  else
+    giveBack(helper);
   if (!answer.header.value("done", false)) throw GeometryError(answer.body);
   return answer;
 }

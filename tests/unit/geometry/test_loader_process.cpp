@@ -115,6 +115,25 @@ TEST(LoaderProcess, TheLoadsOwnErrorIsItsMessage) {
   EXPECT_EQ(loader.started(), 1u);
 }
 
+// A part whose check faults inside OCCT (a fuzz_brep input): refused with the error the
+// helper's handlers made of the fault, and that helper is ended, not pooled, since the
+// fault's jump lost what the frames it skipped held. A sound part's helper is kept.
+TEST(LoaderProcess, AHelperInWhichOcctFaultedIsEndedNotPooled) {
+  std::ifstream in(std::string(HG_TEST_DATA_DIR) + "/../fuzz/corpus/brep/leak_fault_in_checks.brep");
+  const std::string faulting((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_FALSE(faulting.empty());
+  LoaderProcess loader(realHelper());
+  loader.load(test::sample("block"), LengthUnit::Millimetre, "b");
+  ASSERT_EQ(loader.idle().size(), 1u);
+  const pid_t helper = loader.idle().at(0);
+  EXPECT_THAT(errorOf(loader, faulting, "Damaged"), HasSubstr("SIGSEGV"));
+  EXPECT_TRUE(loader.idle().empty());
+  EXPECT_EQ(processState(helper), 0) << "ended and reaped";
+  EXPECT_EQ(loader.load(test::sample("block"), LengthUnit::Millimetre, "b")->faces().Extent(), 58);
+  EXPECT_EQ(loader.started(), 2u);
+  EXPECT_EQ(loader.idle().size(), 1u);
+}
+
 // The real helper, killed and stopped mid-load from outside: the load says so, and the next
 // load gets a new helper. (Killed, not sent SIGSEGV: the helper's OCCT handlers would turn
 // that into an error inside the readers, as they do a fault of OCCT's own.)

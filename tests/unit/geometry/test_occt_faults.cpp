@@ -47,6 +47,16 @@ TEST(OcctFaults, ABusErrorBecomesAStandardFailure) {
   EXPECT_THAT(faultMessage(SIGBUS), HasSubstr("SIGBUS"));
 }
 
+// Each fault is counted once, however often the handlers are put in (every test here does).
+TEST(OcctFaults, EachFaultIsCountedOnce) {
+  catchOcctFaults();
+  catchOcctFaults();
+  const unsigned long before = occtFaultsCaught();
+  EXPECT_THAT(faultMessage(SIGSEGV), HasSubstr("SIGSEGV"));
+  EXPECT_THAT(faultMessage(SIGFPE), HasSubstr("SIGFPE"));
+  EXPECT_EQ(occtFaultsCaught(), before + 2);
+}
+
 // A recursion that never ends, as OCCT's STEP reader did on an ORIENTED_EDGE that was its
 // own edge element: each frame keeps a little of the stack, so no compiler turns it into a
 // loop.

@@ -10,7 +10,11 @@
 // distinct shapes cannot pay for each. Idle helpers wait in a pool; a load takes one or
 // starts one, so a scene's workers load side by side. A helper inherits the scheduling and
 // CPUs of the thread that starts it (a scene's workers: SCHED_BATCH, nice 19, off the servo's
-// CPU), gets the memory limit as its address space, and exits when its parent goes.
+// CPU), gets the memory limit as its address space, and exits when its parent goes. A
+// helper in which OCCT faulted during a load (occt_faults.hpp: occtFaultsCaught) says so in
+// its answer and is ended, not pooled: the fault's jump skipped destructors, losing tens of
+// kB a part (and whatever lock a skipped frame held), which a helper loading one damaged
+// part after another would pile up.
 //
 // The wire, one Unix socket both ways: a frame is a 4-byte magic, a JSON header and a body,
 // each after its size (u64). A request's header names the part, its unit and load options,

@@ -20,6 +20,15 @@ namespace hg::geometry {
 // The handlers for SIGSEGV and SIGBUS run on a thread's FaultStack when it has one.
 void catchOcctFaults();
 
+// How many faults have reached OCCT's handlers in this process since catchOcctFaults(),
+// counted by a handler of ours in front of OCCT's (0 in a process without them: FreeCAD's).
+// A fault leaves by a jump that skips the destructors of every frame between the fault and
+// the OCC_CATCH_SIGNALS that catches it, some of them inside OCCT: what they held (tens of
+// kB per damaged part measured; any lock) is lost. This count includes faults OCCT's own
+// algorithms catch and go on from, which no caller sees. The loader process uses it to end
+// a helper after such a load rather than hand it the next part (loader_process.hpp).
+unsigned long occtFaultsCaught() noexcept;
+
 // While it lives, the calling thread has a stack of its own for signal handlers. A recursion
 // inside OCCT that runs out of the thread's stack then still reaches OCCT's handler, and
 // becomes a Standard_Failure under OCC_CATCH_SIGNALS like any other fault; without it, the
