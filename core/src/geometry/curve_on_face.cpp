@@ -6,6 +6,7 @@
 #include <BRepBndLib.hxx>
 #include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
+#include <Geom2dAdaptor_Curve.hxx>
 #include <GeomAdaptor_Surface.hxx>
 #include <Geom_Curve.hxx>
 #include <Geom_ElementarySurface.hxx>
@@ -213,10 +214,17 @@ std::string CurveOnFace::seamOnItself() const {
 double curveOnFaceDeviation(const TopoDS_Edge& edge, const TopoDS_Face& face) {
   try {
     if (BRep_Tool::Degenerated(edge) || !BRep_Tool::IsGeometric(edge)) return 0;
+    double first = 0, last = 0;
+    const Handle(Geom2d_Curve) curve = BRep_Tool::CurveOnSurface(edge, face, first, last);
+    if (curve.IsNull()) return 0;  // no curve on this face: nothing to compare
+    // Both placed in the shape, as BRepCheck compares them: the 3D curve by the edge's
+    // location, the surface by the face's (BRep_Tool::Surface). BRepAdaptor_Curve's
+    // CurveOnSurface() is in the surface's own frame, its placement kept apart: compared with
+    // the placed 3D curve, every edge of a located face strayed by the placement (a valid
+    // plate's holes, 14 and 81 mm).
     const Handle(Adaptor3d_Curve) reference = new BRepAdaptor_Curve(edge);
-    const BRepAdaptor_Curve onFace(edge, face);
-    if (!onFace.IsCurveOnSurface()) return 0;  // no curve on this face: nothing to compare
-    const Handle(Adaptor3d_CurveOnSurface) other = new Adaptor3d_CurveOnSurface(onFace.CurveOnSurface());
+    const Handle(Adaptor3d_CurveOnSurface) other = new Adaptor3d_CurveOnSurface(
+        new Geom2dAdaptor_Curve(curve, first, last), new GeomAdaptor_Surface(BRep_Tool::Surface(face)));
     BRepLib_ValidateEdge validate(reference, other, BRep_Tool::SameParameter(edge));
     validate.Process();
     return validate.IsDone() ? validate.GetMaxDistance() : HUGE_VAL;

@@ -19,7 +19,9 @@
 #include <TopExp_Explorer.hxx>
 #include <TopExp.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
+#include <TopLoc_Location.hxx>
 #include <TopoDS.hxx>
+#include <gp_Trsf.hxx>
 
 #include <cmath>
 #include <filesystem>
@@ -165,6 +167,18 @@ TEST(CurveOnFace, CurvedFacesWhoseEdgesStrayFromThemAreFound) {
   ASSERT_FALSE(lifted.empty());
   EXPECT_NEAR(lifted[0].distance, 2.0, 1e-4);  // OCCT adds 1e-5 of it, to be safe
   EXPECT_TRUE(curvedFacesOffTheirEdges(cylinder, 2.1).empty());
+}
+
+// A placed face's edges lie on it: the 3D curve and the curve on the face are compared in
+// the shape's frame. (Compared in the surface's own frame, every edge of a cylinder moved
+// by 100 mm strayed by 100 mm, and four holes of a valid plate in the corpus by 14 and 81.)
+TEST(CurveOnFace, APlacedFacesEdgesLieOnIt) {
+  gp_Trsf placement;
+  placement.SetTranslation(gp_Vec(100, 0, 0));
+  const TopoDS_Shape moved = BRepPrimAPI_MakeCylinder(50, 400).Shape().Moved(TopLoc_Location(placement));
+  EXPECT_TRUE(curvedFacesOffTheirEdges(moved, 1e-6).empty());
+  const TopoDS_Shape plate = readSeed("../../../corpus/parts/machined_plate.brep");
+  EXPECT_TRUE(curvedFacesOffTheirEdges(plate, 1e-6).empty());
 }
 
 // The turns of an edge's own range, made here: once and a writer's round-off load; twice
