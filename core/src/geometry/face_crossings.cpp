@@ -36,6 +36,7 @@
 #include <utility>
 #include <vector>
 
+#include "curve_on_face.hpp"
 #include "meshing_limits.hpp"
 
 namespace hg::geometry {
@@ -54,12 +55,6 @@ constexpr double kBoundaryAngle = 0.5;
 // confirmations in all (each a few projections onto the surfaces; touching pairs such as a
 // bolt in its hole yield many candidates, each rejected at its first step).
 constexpr int kCandidatesPerPair = 6;
-// Bounds on the pairs of primitives whose boxes overlap. Real parts have fewer than ten per
-// primitive (the corpus and the external files: at most 6.3); a surface folded on itself
-// has thousands (a damaged B-spline face: 112 million pairs among 40,000 triangles, 3 s in
-// Release, 30 s under ASan; fuzz_brep).
-constexpr long kBoxPairsPerPrimitive = 100;
-constexpr long kBoxPairsAtLeast = 100'000;
 constexpr int kMaxPairs = 200;
 constexpr int kMaxConfirmations = 500;
 // Surfaces that meet at less than ~1.1 degrees touch (coincident or tangent faces) rather
@@ -389,16 +384,9 @@ struct FaceInfo {
   std::unique_ptr<PlanarRegion> region;  // planar faces
 };
 
-// The crossing search's MeshingBudget (meshing_limits.hpp): a damaged B-spline face kept
-// BRepMesh's Delaunay busy for 9.8 s (48,195 asks; fuzz_brep); real parts ask about six
-// times a face (the 1,030-face sample plate 6,146, the corpus at most 3,007 for 517
-// faces). Within 5,000 asks that face takes 0.5 s.
-constexpr long kMeshingChecksAtLeast = 5'000;
-constexpr long kMeshingChecksPerFace = 50;
-
 class CrossingFinder {
  public:
-  explicit CrossingFinder(const TopoDS_Shape& shape) : shape_(shape) {
+  CrossingFinder(const TopoDS_Shape& shape, const CrossingBudgets& budgets) : shape_(shape), budgets_(budgets) {
     Bnd_Box box;
     BRepBndLib::Add(shape, box);
     diagonal_ = box.IsVoid() ? 1.0 : std::sqrt(box.SquareExtent());
@@ -409,7 +397,7 @@ class CrossingFinder {
     collectFaces();
     meshCurvedFaces();
     Bvh bvh(primitives_);
-    long left = kBoxPairsPerPrimitive * static_cast<long>(primitives_.size()) + kBoxPairsAtLeast;
+    long left = budgets_.boxPairsPerPrimitive * static_cast<long>(primitives_.size()) + budgets_.boxPairsAtLeast;
     result_.pairsStopped = !bvh.forEachOverlappingPair([this, &left](const Primitive& a, const Primitive& b) {
       test(a, b);
       return --left > 0;
@@ -453,27 +441,38 @@ class CrossingFinder {
   // The curved faces of a copy (the shape is never modified: BRepMesh stores its triangles
   // in the faces), meshed together so that neighbours share the nodes of their edges.
   // Within a budget of BRepMesh's progress checks (MeshingBudget): the faces it leaves
-  // without triangles are reported as not searched.
+  // without triangles are reported as not searched. So are the faces whose edges stray
+  // from them (curve_on_face.hpp: kMaxEdgeStray), which the mesh back end does not give
+  // BRepMesh either: BRepMesh's Delaunay mends such a face's boundary without asking its
+  // progress indicator (fuzz_brep: a cylinder whose seam lay 229 mm off it, 1,025 points
+  // a side, 33 s in Release).
   void meshCurvedFaces() {
     const TopoDS_Shape copy = BRepBuilderAPI_Copy(shape_, false, false).Shape();
     TopTools_IndexedMapOfShape copyFaces;
     TopExp::MapShapes(copy, TopAbs_FACE, copyFaces);
+    std::vector<bool> offItsEdges(faces_.size(), false);
+    for (const FaceOffItsEdges& off : curvedFacesOffTheirEdges(shape_, kMaxEdgeStray * diagonal_))
+      if (off.face <= static_cast<int>(faces_.size())) offItsEdges[off.face - 1] = true;
     TopoDS_Compound curved;
     BRep_Builder builder;
     builder.MakeCompound(curved);
     bool any = false;
-    for (int i = 0; i < static_cast<int>(faces_.size()) && i < copyFaces.Extent(); ++i)
-      if (!faces_[i].planar) {
-        builder.Add(curved, copyFaces(i + 1));
-        any = true;
+    for (int i = 0; i < static_cast<int>(faces_.size()) && i < copyFaces.Extent(); ++i) {
+      if (faces_[i].planar) continue;
+      if (offItsEdges[i]) {
+        result_.unmeshed.push_back(faces_[i].face);
+        continue;
       }
+      builder.Add(curved, copyFaces(i + 1));
+      any = true;
+    }
     if (!any) return;
     const Handle(MeshingBudget) budget =
-        new MeshingBudget(kMeshingChecksAtLeast + kMeshingChecksPerFace * static_cast<long>(faces_.size()));
+        new MeshingBudget(budgets_.meshingChecksAtLeast + budgets_.meshingChecksPerFace * static_cast<long>(faces_.size()));
     meshWithin(curved, {result_.deflection, kAngularDeflection}, budget);
     result_.meshingStopped = budget->spent();
     for (int i = 0; i < static_cast<int>(faces_.size()) && i < copyFaces.Extent(); ++i) {
-      if (faces_[i].planar) continue;
+      if (faces_[i].planar || offItsEdges[i]) continue;
       TopLoc_Location location;
       const Handle(Poly_Triangulation) mesh = BRep_Tool::Triangulation(TopoDS::Face(copyFaces(i + 1)), location);
       if (mesh.IsNull() || mesh->NbTriangles() == 0) {
@@ -742,6 +741,7 @@ class CrossingFinder {
   }
 
   const TopoDS_Shape& shape_;
+  const CrossingBudgets budgets_;
   double diagonal_ = 1;
   TopTools_IndexedMapOfShape faceMap_;
   std::vector<FaceInfo> faces_;
@@ -753,6 +753,8 @@ class CrossingFinder {
 
 }  // namespace
 
-CrossingSearch findFaceCrossings(const TopoDS_Shape& shape) { return CrossingFinder(shape).run(); }
+CrossingSearch findFaceCrossings(const TopoDS_Shape& shape, const CrossingBudgets& budgets) {
+  return CrossingFinder(shape, budgets).run();
+}
 
 }  // namespace hg::geometry

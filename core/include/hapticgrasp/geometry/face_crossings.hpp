@@ -36,7 +36,24 @@ struct CrossingSearch {
   bool pairsStopped = false;            // the overlapping boxes were more than its budget: compared in part
 };
 
+// Bounds on the search's work, so that a damaged part's search ends; each is said in
+// CrossingSearch when reached.
+struct CrossingBudgets {
+  // BRepMesh's asks of its progress indicator (meshing_limits.hpp: MeshingBudget). Real
+  // parts ask about six times a face (the 1,030-face sample plate 6,146, the corpus at most
+  // 3,007 for 517 faces); a damaged B-spline face kept BRepMesh's Delaunay busy for 9.8 s
+  // (48,195 asks; fuzz_brep), 0.5 s within 5,000.
+  long meshingChecksAtLeast = 5'000;
+  long meshingChecksPerFace = 50;
+  // Pairs of primitives whose boxes overlap. Real parts have fewer than ten per primitive
+  // (the corpus and the external files: at most 6.3); a surface folded on itself has
+  // thousands (a damaged B-spline face: 112 million pairs among 40,000 triangles, 3 s in
+  // Release, 30 s under ASan; fuzz_brep).
+  long boxPairsPerPrimitive = 100;
+  long boxPairsAtLeast = 100'000;
+};
+
 // `shape`: a solid or a compound of solids. Throws Standard_Failure only on OCCT bugs.
-CrossingSearch findFaceCrossings(const TopoDS_Shape& shape);
+CrossingSearch findFaceCrossings(const TopoDS_Shape& shape, const CrossingBudgets& budgets = {});
 
 }  // namespace hg::geometry
