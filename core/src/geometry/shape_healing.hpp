@@ -9,7 +9,8 @@
 namespace hg::geometry {
 
 // ShapeFix_Shape as FreeCAD's Part fix() runs it, with every wire fix on (self-intersecting
-// and intersecting edges, adjacent or not): tolerances may grow up to maxTolerance (shape
+// and intersecting edges, adjacent or not) but not the fix of a face's wires crossing one
+// another (it looped on a damaged part): tolerances may grow up to maxTolerance (shape
 // units). Returns the input itself when ShapeFix fails or finds nothing to do.
 TopoDS_Shape healWithShapeFix(const TopoDS_Shape& shape, double precision, double maxTolerance);
 
