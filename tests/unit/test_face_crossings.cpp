@@ -4,8 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <BRepBuilderAPI_Copy.hxx>
-#include <BRepTools.hxx>
-#include <BRep_Builder.hxx>
 #include <BRepAdaptor_Surface.hxx>
 #include <ShapeFix_ShapeTolerance.hxx>
 #include <TopExp.hxx>
@@ -26,10 +24,7 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 
 TopoDS_Shape readBrep(const std::string& name) {
-  TopoDS_Shape shape;
-  BRep_Builder builder;
-  BRepTools::Read(shape, (std::filesystem::path(HG_RESOURCES_DIR) / "parts" / name).c_str(), builder);
-  return shape;
+  return test::readShape(std::filesystem::path(HG_RESOURCES_DIR) / "parts" / name);
 }
 
 // The pairs of solids the crossings join, and how many crossings lie within one solid.
@@ -149,11 +144,8 @@ TEST(FaceCrossings, MeshingAndComparingStopAtTheirBudgetsAndSaySo) {
 // progress indicator. A curved face whose edges stray from it (curve_on_face.hpp) is not
 // meshed: it is counted among the faces not searched.
 TEST(FaceCrossings, AFaceOffItsEdgesIsNotMeshedButCounted) {
-  TopoDS_Shape shape;
-  BRep_Builder builder;
-  const std::filesystem::path path =
-      std::filesystem::path(HG_TEST_DATA_DIR) / "../fuzz/corpus/brep/timeout_seam_off_its_cylinder.brep";
-  ASSERT_TRUE(BRepTools::Read(shape, path.c_str(), builder));
+  const TopoDS_Shape shape =
+      test::readShape(std::filesystem::path(HG_TEST_DATA_DIR) / "../fuzz/corpus/brep/timeout_seam_off_its_cylinder.brep");
   const CrossingSearch search = findFaceCrossings(shape);
   ASSERT_EQ(search.unmeshed.size(), 1u);
   EXPECT_EQ(BRepAdaptor_Surface(search.unmeshed[0]).GetType(), GeomAbs_Cylinder);

@@ -7,8 +7,6 @@
 #include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
 #include <BRepCheck_Analyzer.hxx>
-#include <BRepTools.hxx>
-#include <BRep_Builder.hxx>
 #include <GC_MakeCircle.hxx>
 #include <TopoDS.hxx>
 #include <gp_Circ.hxx>
@@ -63,9 +61,7 @@ TEST(ShapeValidity, AgreesWithTheAnalyzerOnFacesWithManyHoles) {
 TEST(ShapeValidity, SamplePartsAreValid) {
   for (const char* name : {"cylinder.brep", "block.brep", "loft.brep", "plate.brep"}) {
     SCOPED_TRACE(name);
-    TopoDS_Shape shape;
-    BRep_Builder builder;
-    BRepTools::Read(shape, (std::filesystem::path(HG_RESOURCES_DIR) / "parts" / name).c_str(), builder);
+    const TopoDS_Shape shape = test::readShape(std::filesystem::path(HG_RESOURCES_DIR) / "parts" / name);
     const auto problem = firstValidityProblem(shape);
     EXPECT_FALSE(problem) << describe(*problem, shape);
   }

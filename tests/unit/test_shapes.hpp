@@ -15,6 +15,7 @@
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakePrism.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
+#include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
 #include <Geom2d_Line.hxx>
 #include <Geom_CylindricalSurface.hxx>
@@ -55,8 +56,10 @@
 
 #include <map>
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -69,6 +72,15 @@ namespace hg::test {
 using geometry::LengthUnit;
 using geometry::PartModel;
 using geometry::PartModelPtr;
+
+// A BREP file as OCCT reads it, in its own units; a file that does not read fails the test
+// that asked for it, naming the file.
+inline TopoDS_Shape readShape(const std::filesystem::path& path) {
+  TopoDS_Shape shape;
+  BRep_Builder builder;
+  if (!BRepTools::Read(shape, path.c_str(), builder)) throw std::runtime_error("cannot read " + path.string());
+  return shape;
+}
 
 inline PartModelPtr boxPart(double x = 100, double y = 60, double z = 30) {
   return PartModel::fromShape(BRepPrimAPI_MakeBox(gp_Pnt(-x / 2, -y / 2, -z / 2), x, y, z).Shape(),

@@ -9,7 +9,6 @@
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
 #include <BRepPrimAPI_MakeTorus.hxx>
-#include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <Geom2d_Curve.hxx>
@@ -30,6 +29,7 @@
 #include <vector>
 
 #include "geometry/curve_on_face.hpp"
+#include "test_shapes.hpp"
 
 namespace hg::geometry {
 namespace {
@@ -37,11 +37,7 @@ namespace {
 namespace fs = std::filesystem;
 
 TopoDS_Shape readSeed(const std::string& name) {
-  TopoDS_Shape shape;
-  BRep_Builder builder;
-  const fs::path path = fs::path(HG_TEST_DATA_DIR) / "../fuzz/corpus/brep" / name;
-  EXPECT_TRUE(BRepTools::Read(shape, path.c_str(), builder)) << path;
-  return shape;
+  return test::readShape(fs::path(HG_TEST_DATA_DIR) / "../fuzz/corpus/brep" / name);
 }
 
 // A copy of a 50 x 400 mm cylinder, `change` applied to each of its circles (edge, 3D

@@ -3,8 +3,6 @@
 // is refused with the reason.
 #include "hapticgrasp/geometry/display_shape.hpp"
 
-#include <BRepTools.hxx>
-#include <BRep_Builder.hxx>
 #include <BinTools.hxx>
 #include <TopExp_Explorer.hxx>
 #include <gmock/gmock.h>
@@ -14,6 +12,7 @@
 
 #include "geometry/part_answers.hpp"
 #include "hapticgrasp/geometry/geometry_error.hpp"
+#include "test_shapes.hpp"
 
 namespace hg::geometry {
 namespace {
@@ -27,10 +26,7 @@ std::string binaryOf(const TopoDS_Shape& shape) {
 }
 
 std::string binaryOfFile(const std::string& path) {
-  TopoDS_Shape shape;
-  BRep_Builder builder;
-  EXPECT_TRUE(BRepTools::Read(shape, path.c_str(), builder)) << path;
-  return binaryOf(shape);
+  return binaryOf(test::readShape(path));
 }
 
 std::string errorOf(std::string_view bytes, const DisplayCheck& check = {}) {

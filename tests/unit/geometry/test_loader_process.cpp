@@ -16,14 +16,13 @@
 #include <string>
 #include <thread>
 
-#include <BRepTools.hxx>
-#include <BRep_Builder.hxx>
 #include <BinTools.hxx>
 
 #include "geometry/part_answers.hpp"
 #include "hapticgrasp/geometry/display_shape.hpp"
 #include "hapticgrasp/geometry/geometry_error.hpp"
 #include "hapticgrasp/install_layout.hpp"
+#include "test_shapes.hpp"
 
 namespace hg::geometry {
 namespace {
@@ -267,9 +266,7 @@ TEST(LoaderProcess, ACancelledLoadEndsAtOnce) {
 
 TEST(LoaderProcess, ARecordedShapeIsCheckedForDisplayThere) {
   LoaderProcess loader(realHelper());
-  TopoDS_Shape block;
-  BRep_Builder builder;
-  ASSERT_TRUE(BRepTools::Read(block, (std::string(HG_RESOURCES_DIR) + "/parts/block.brep").c_str(), builder));
+  const TopoDS_Shape block = test::readShape(std::string(HG_RESOURCES_DIR) + "/parts/block.brep");
   std::ostringstream binary(std::ios::binary);
   BinTools::Write(block, binary);
   EXPECT_EQ(loader.displayableText(binary.str(), LengthUnit::Millimetre, "Block"),

@@ -8,7 +8,6 @@
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
 #include <BRepPrimAPI_MakeTorus.hxx>
-#include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <Poly_Triangulation.hxx>
@@ -27,6 +26,7 @@
 #include "hapticgrasp/geometry/backends.hpp"
 #include "hapticgrasp/geometry/geometry_error.hpp"
 #include "hapticgrasp/geometry/part_model.hpp"
+#include "test_shapes.hpp"
 
 namespace hg::geometry {
 namespace {
@@ -50,11 +50,7 @@ TopoDS_Face needleCone() {
 }
 
 TopoDS_Shape sampleShape(const std::string& name) {
-  TopoDS_Shape shape;
-  BRep_Builder builder;
-  const fs::path path = fs::path(HG_RESOURCES_DIR) / "parts" / (name + ".brep");
-  EXPECT_TRUE(BRepTools::Read(shape, path.c_str(), builder)) << path;
-  return shape;
+  return test::readShape(fs::path(HG_RESOURCES_DIR) / "parts" / (name + ".brep"));
 }
 
 TEST(MeshingLimits, ANeedleConeIsBeyondTheLimitAndLeftWithoutTriangles) {
@@ -101,10 +97,7 @@ TEST(MeshingLimits, TheSamplePartsStayFarBelowTheLimit) {
 // has healed its wire, its edge points all lie at U = 0. The crossing search's BRepMesh took
 // more than 8 GB on it in a minute, laying points 1e-8 apart along its seam.
 TEST(MeshingLimits, AConeWhoseEdgePointsSpanNoWidthIsBeyondTheLimit) {
-  TopoDS_Shape cone;
-  BRep_Builder builder;
-  const fs::path path = fs::path(HG_TEST_DATA_DIR) / "cone_seam_without_width.brep";
-  ASSERT_TRUE(BRepTools::Read(cone, path.c_str(), builder)) << path;
+  const TopoDS_Shape cone = test::readShape(fs::path(HG_TEST_DATA_DIR) / "cone_seam_without_width.brep");
   const MeshingParameters asTheCrossingSearch{0.752665, 1.0};
   EXPECT_EQ(surfaceGrids(cone, asTheCrossingSearch).beyondTheLimit.size(), 1u);
   const MeshedFaces meshed = meshWithin(cone, asTheCrossingSearch, Handle(Message_ProgressIndicator)());

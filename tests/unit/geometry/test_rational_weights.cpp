@@ -5,8 +5,6 @@
 #include <BRepBuilderAPI_Copy.hxx>
 #include <BRepBuilderAPI_NurbsConvert.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
-#include <BRepTools.hxx>
-#include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <Geom_BSplineCurve.hxx>
 #include <Geom_BSplineSurface.hxx>
@@ -20,19 +18,13 @@
 
 #include "geometry/curve_on_face.hpp"
 #include "geometry/rational_weights.hpp"
+#include "test_shapes.hpp"
 
 namespace hg::geometry {
 namespace {
 
 namespace fs = std::filesystem;
 const fs::path kData = HG_TEST_DATA_DIR;
-
-TopoDS_Shape readBrep(const fs::path& path) {
-  TopoDS_Shape shape;
-  BRep_Builder builder;
-  EXPECT_TRUE(BRepTools::Read(shape, path.c_str(), builder)) << path;
-  return shape;
-}
 
 // A 50 x 400 mm cylinder as NURBS: its circles and its side are rational.
 TopoDS_Shape nurbsCylinder() {
@@ -86,7 +78,7 @@ TEST(RationalWeights, WeightsFarApartAreNamed) {
 // A loft whose weights were 1 and, by a mutation, 1.8e17, with a pole 88 km off: BRepMesh's
 // Delaunay triangulation for the crossing search took 6 GB in 12 s.
 TEST(RationalWeights, TheFuzzedLoftIsRefused) {
-  const TopoDS_Shape loft = readBrep(kData / "../fuzz/corpus/brep/oom_rational_weights_far_apart.brep");
+  const TopoDS_Shape loft = test::readShape(kData / "../fuzz/corpus/brep/oom_rational_weights_far_apart.brep");
   EXPECT_EQ(damagedGeometry(loft), "face 1's surface has weights 1.8e+17 times apart");
 }
 
@@ -94,10 +86,10 @@ TEST(RationalWeights, TheFuzzedLoftIsRefused) {
 // elsewhere has the widest (3, in 280 of its curves and surfaces).
 TEST(RationalWeights, RealPartsLieAtMostThreeTimesApart) {
   double widest = 1;
-  for (const fs::path folder : {kData / "../corpus/parts", fs::path(HG_RESOURCES_DIR) / "parts"})
+  for (const fs::path& folder : {kData / "../corpus/parts", fs::path(HG_RESOURCES_DIR) / "parts"})
     for (const fs::directory_entry& file : fs::directory_iterator(folder))
       if (file.path().extension() == ".brep") {
-        const WeightSpread w = widestWeights(readBrep(file.path()));
+        const WeightSpread w = widestWeights(test::readShape(file.path()));
         EXPECT_LE(w.spread, 3) << file.path() << ": " << w.where;
         widest = std::max(widest, w.spread);
       }

@@ -1,5 +1,6 @@
 // healWithShapeFix: what ShapeFix heals for the load, and what it is not asked to.
 #include "geometry/shape_healing.hpp"
+#include "test_shapes.hpp"
 
 #include <gtest/gtest.h>
 
@@ -7,8 +8,6 @@
 #include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepCheck_Analyzer.hxx>
 #include <BRepPrimAPI_MakePrism.hxx>
-#include <BRepTools.hxx>
-#include <BRep_Builder.hxx>
 #include <Precision.hxx>
 #include <gp_Pln.hxx>
 
@@ -18,17 +17,10 @@
 namespace hg::geometry {
 namespace {
 
-TopoDS_Shape read(const std::filesystem::path& path) {
-  TopoDS_Shape shape;
-  BRep_Builder builder;
-  EXPECT_TRUE(BRepTools::Read(shape, path.c_str(), builder)) << path;
-  return shape;
-}
-
 const std::filesystem::path kData = HG_TEST_DATA_DIR;
 
 TEST(ShapeHealing, AWireThatCrossesItselfIsHealed) {
-  const TopoDS_Shape part = read(kData / "../corpus/parts/defect_selfx_wire.brep");
+  const TopoDS_Shape part = test::readShape(kData / "../corpus/parts/defect_selfx_wire.brep");
   ASSERT_FALSE(BRepCheck_Analyzer(part).IsValid());
   const TopoDS_Shape healed = healWithShapeFix(part, Precision::Confusion(), 1e-3);
   EXPECT_FALSE(healed.IsSame(part));

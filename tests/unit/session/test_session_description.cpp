@@ -15,6 +15,7 @@
 
 #include "hapticgrasp/servo/servo_bench.hpp"
 #include "hapticgrasp/session/session_description.hpp"
+#include "test_shapes.hpp"
 
 namespace hg::session {
 namespace {
@@ -126,10 +127,8 @@ TEST(SessionDescription, ARecordedShapeReadsBackAsTextBrep) {
 // A recording may come from anyone: a shape the part load refuses never reaches FreeCAD
 // (the cylinder whose top edge goes 98 times round, which BRepMesh meshed for good).
 TEST(SessionDescription, ARecordedShapeThePartLoadRefusesIsNotGivenOut) {
-  TopoDS_Shape damaged;
-  BRep_Builder builder;
-  const std::string seed = std::string(HG_TEST_DATA_DIR) + "/../fuzz/corpus/brep/timeout_edge_turns_98_times.brep";
-  ASSERT_TRUE(BRepTools::Read(damaged, seed.c_str(), builder));
+  const TopoDS_Shape damaged =
+      test::readShape(std::string(HG_TEST_DATA_DIR) + "/../fuzz/corpus/brep/timeout_edge_turns_98_times.brep");
   std::ostringstream binary(std::ios::binary);
   BinTools::Write(damaged, binary);
   RecordedPart part = describeParts(*servo::benchScene())[0];
